@@ -1,0 +1,1 @@
+"""Numeric core of ProgSurf: numpy only, no FreeCAD, Part or Qt import."""

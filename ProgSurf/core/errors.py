@@ -1,0 +1,41 @@
+"""The project's one exception family.
+
+Every message names the bad value and says what to do, e.g.
+"stroke 7 has 1 point; a stroke needs at least 2".
+"""
+
+
+class ProgSurfError(ValueError):
+    """Base of every error ProgSurf raises on purpose."""
+
+
+class InvalidStrokeError(ProgSurfError):
+    """A stroke is malformed: too few points, NaN/inf coordinates, wrong shape."""
+
+
+class StrokeFileError(ProgSurfError):
+    """A stroke file cannot be read: missing, empty, malformed line, unknown format."""
+
+
+class DegenerateSketchError(ProgSurfError):
+    """The sketch has no plane: all points coincident or collinear."""
+
+
+class OpenBoundaryError(ProgSurfError):
+    """The boundary cannot be closed: too few sides, a gap too wide, self-crossing."""
+
+
+class StrokeOutsideSurfaceError(ProgSurfError):
+    """An interior stroke projects outside the current surface; it is rejected."""
+
+
+class StrokeRejectedError(ProgSurfError):
+    """An interior stroke cannot be added for another stated reason."""
+
+
+class FitError(ProgSurfError):
+    """OCC could not fit a B-spline curve or face within tolerance."""
+
+
+class InvalidOptionError(ProgSurfError):
+    """An option or tolerance passed by the caller is out of range, e.g. a negative filter threshold."""

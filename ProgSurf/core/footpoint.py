@@ -1,0 +1,122 @@
+"""Footpoints of 3D points on a faceted surface: Qin & Wright step (6), Eq. 2.
+
+For a facet with corner P0 and edge vectors R, S (to P(u_i, v_j+1) and P(u_i+1, v_j)) and normal
+N = R x S, the footpoint F of Q solves
+
+    [R S N] . [k_r, k_s, d]^T = Q - P0,     F = P0 + k_r R + k_s S = Q - d N,
+
+and F is a real footpoint when (k_r, k_s) lies in the facet triangle. The parameters of F follow
+by the same barycentric weights. We solve Eq. 2 for every facet at once and keep the nearest real
+footpoint; when no facet has one, the nearest point of the mesh decides: on the outer boundary
+of the surface the point "projects outside the surface" (the paper rejects the stroke).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .types import FloatArray
+
+
+@dataclass(frozen=True)
+class Facets:
+    """A triangulated surface with a pre-image for every vertex.
+
+    xyz      : (m, 3, 3) the triangles' 3D corners
+    uv       : (m, 3, 2) their pre-images
+    region   : (m,) int, region id of each triangle
+    """
+
+    xyz: FloatArray
+    uv: FloatArray
+    region: np.ndarray
+
+
+@dataclass(frozen=True)
+class Footpoint:
+    """The footpoint F of a point Q: F = xyz, its pre-image uv, signed distance d, region id.
+
+    inside : False when Q projects outside the surface (no real footpoint; F is the nearest
+             point of the surface boundary).
+    """
+
+    xyz: FloatArray
+    uv: FloatArray
+    distance: float
+    region: int
+    inside: bool
+
+
+def _closest_on_triangles(q: FloatArray, tri: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Closest points of q (3,) on each triangle (m, 3, 3): barycentric (m, 3) and distances (m,)."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    best_w = None
+    best_d = None
+    # Candidates: interior projection and the three edges; pick the nearest valid one.
+    ab, ac = b - a, c - a
+    n = np.cross(ab, ac)
+    nn = np.einsum("ij,ij->i", n, n)
+    nn_safe = np.where(nn > 1e-300, nn, 1.0)
+    aq = q - a
+    wb = np.einsum("ij,ij->i", np.cross(aq, ac), n) / nn_safe
+    wc = np.einsum("ij,ij->i", np.cross(ab, aq), n) / nn_safe
+    wa = 1.0 - wb - wc
+    inside = (wa >= 0) & (wb >= 0) & (wc >= 0) & (nn > 1e-300)
+    p = wa[:, None] * a + wb[:, None] * b + wc[:, None] * c
+    d_in = np.where(inside, np.linalg.norm(q - p, axis=1), np.inf)
+    best_w = np.column_stack([wa, wb, wc])
+    best_d = d_in
+    for i, j in ((0, 1), (1, 2), (2, 0)):
+        p0, p1 = tri[:, i], tri[:, j]
+        e = p1 - p0
+        ee = np.einsum("ij,ij->i", e, e)
+        t = np.clip(np.einsum("ij,ij->i", q - p0, e) / np.where(ee > 1e-300, ee, 1.0), 0.0, 1.0)
+        pt = p0 + t[:, None] * e
+        d = np.linalg.norm(q - pt, axis=1)
+        better = d < best_d
+        w = np.zeros((len(tri), 3))
+        w[:, i] = 1.0 - t
+        w[:, j] = t
+        best_w = np.where(better[:, None], w, best_w)
+        best_d = np.where(better, d, best_d)
+    return best_w, best_d
+
+
+def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
+    """The footpoint of q (3,) on the facets (Eq. 2), as described in the module docstring.
+
+    slack : a real footpoint may lie this far (in mm) outside its facet, to absorb the
+            faceting of a curved surface near the outer boundary.
+    """
+    q = np.asarray(q, dtype=float)
+    tri = facets.xyz
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    r_vec, s_vec = b - a, c - a
+    n = np.cross(r_vec, s_vec)
+    nrm = np.linalg.norm(n, axis=1)
+    good = nrm > 1e-300
+    n_unit = n / np.where(good, nrm, 1.0)[:, None]
+    # Eq. 2 for all facets at once: [R S N] [k_r k_s d]^T = Q - P0.
+    mat = np.stack([r_vec, s_vec, n_unit], axis=2)
+    mat[~good] = np.eye(3)
+    sol = np.linalg.solve(mat, (q - a)[:, :, None])[:, :, 0]
+    kr, ks, d = sol[:, 0], sol[:, 1], sol[:, 2]
+    edge_len = np.maximum(np.linalg.norm(r_vec, axis=1), np.linalg.norm(s_vec, axis=1))
+    tol = np.where(edge_len > 0, slack / np.maximum(edge_len, 1e-300), 0.0) + 1e-9
+    real = good & (kr >= -tol) & (ks >= -tol) & (kr + ks <= 1 + tol)
+    if np.any(real):
+        idx = np.flatnonzero(real)
+        k = idx[np.argmin(np.abs(d[idx]))]
+        w = np.clip(np.array([1 - kr[k] - ks[k], kr[k], ks[k]]), 0.0, None)
+        w /= w.sum()
+        return Footpoint(xyz=w @ tri[k], uv=w @ facets.uv[k], distance=float(d[k]),
+                         region=int(facets.region[k]), inside=True)
+    w, dist = _closest_on_triangles(q, tri)
+    k = int(np.argmin(dist))
+    wk = w[k]
+    uv = wk @ facets.uv[k]
+    # The outer boundary of the surface is the boundary of the unit square in the pre-image.
+    on_outer = bool(np.any(np.minimum(uv, 1.0 - uv) <= 1e-9))
+    return Footpoint(xyz=wk @ tri[k], uv=uv, distance=float(dist[k]),
+                     region=int(facets.region[k]), inside=not on_outer)

@@ -1,0 +1,114 @@
+"""Planar geometry of the pre-image plane (u, v) in [0,1]^2 (Qin & Wright, steps 3-4, Fig. 6-8).
+
+Every curve's pre-image is a straight segment; every region is a convex 3- or 4-sided polygon.
+"""
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from .types import FloatArray
+
+CORNER_ANGLE = np.radians(2.0)
+"""A polygon vertex whose direction turns by less than this is a T-junction, not a corner."""
+
+
+def cross2(a: npt.ArrayLike, b: npt.ArrayLike) -> FloatArray:
+    """z-component of the 2D cross product, broadcasting over leading axes."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def segment_intersections(p0: FloatArray, p1: FloatArray, a: FloatArray, b: FloatArray,
+                          eps: float = 1e-12) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Intersections of the segment p0-p1 with m segments a_i-b_i.
+
+    p0, p1 : (2,)    a, b : (m, 2)
+    Returns (t, s, parallel): t (m,) along p0->p1, s (m,) along a->b (NaN where parallel),
+    and parallel (m,) bool for (near-)parallel pairs.
+    """
+    d = p1 - p0
+    e = b - a
+    denom = cross2(d, e)
+    w = a - p0
+    parallel = np.abs(denom) <= eps * np.maximum(np.linalg.norm(e, axis=-1) * np.linalg.norm(d), 1e-300)
+    safe = np.where(parallel, 1.0, denom)
+    t = np.where(parallel, np.nan, cross2(w, e) / safe)
+    s = np.where(parallel, np.nan, cross2(w, d) / safe)
+    return t, s, parallel
+
+
+def polygon_area(poly: FloatArray) -> float:
+    """Signed area (counter-clockwise positive) of polygon (n, 2)."""
+    x, y = poly[:, 0], poly[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def points_in_convex_polygon(pts: FloatArray, poly: FloatArray, eps: float = 1e-9) -> FloatArray:
+    """(k,) bool: which of pts (k, 2) lie in the counter-clockwise convex polygon (n, 2)."""
+    pts = np.atleast_2d(pts)
+    edge = np.roll(poly, -1, axis=0) - poly                      # (n, 2)
+    rel = pts[:, None, :] - poly[None, :, :]                     # (k, n, 2)
+    side = cross2(edge[None, :, :], rel)                         # (k, n)
+    scale = np.linalg.norm(edge, axis=-1)[None, :]
+    return np.all(side >= -eps * np.maximum(scale, 1e-300), axis=1)
+
+
+def turning_corners(poly: FloatArray, angle: float = CORNER_ANGLE) -> list[int]:
+    """Indices of the vertices of polygon (n, 2) where the boundary turns by more than angle."""
+    prev = poly - np.roll(poly, 1, axis=0)
+    nxt = np.roll(poly, -1, axis=0) - poly
+    turn = np.arctan2(cross2(prev, nxt), np.einsum("ij,ij->i", prev, nxt))
+    return [i for i in range(len(poly)) if abs(turn[i]) > angle]
+
+
+def bilinear(corners: FloatArray, s: npt.ArrayLike, r: npt.ArrayLike) -> FloatArray:
+    """uv of the bilinear map of corners (4, 2) c0, c1, c2, c3 at local (s, r); (..., 2)."""
+    s = np.asarray(s, dtype=float)[..., None]
+    r = np.asarray(r, dtype=float)[..., None]
+    c0, c1, c2, c3 = corners
+    return (1 - s) * (1 - r) * c0 + s * (1 - r) * c1 + s * r * c2 + (1 - s) * r * c3
+
+
+def inverse_bilinear(corners: FloatArray, uv: FloatArray, triangle: bool) -> tuple[FloatArray, FloatArray]:
+    """Local (s, r) in [0,1]^2 of pre-image points uv (k, 2) in a region with corners (4, 2).
+
+    A triangle (c3 == c2) maps r to the barycentric weight of the apex c2 and s along c0->c1,
+    the collapsed top of Qin & Wright Fig. 4. Quads use Newton's method on the bilinear map.
+    """
+    uv = np.atleast_2d(np.asarray(uv, dtype=float))
+    c0, c1, c2, c3 = corners
+    if triangle:
+        m = np.column_stack([c1 - c0, c2 - c0])
+        lam = np.linalg.solve(m, (uv - c0).T).T                  # weights of c1, c2
+        r = np.clip(lam[:, 1], 0.0, 1.0)
+        base = 1.0 - lam[:, 1]
+        s = np.where(base > 1e-12, lam[:, 0] / np.where(base > 1e-12, base, 1.0), 0.5)
+        return np.clip(s, 0.0, 1.0), r
+    s = np.full(len(uv), 0.5)
+    r = np.full(len(uv), 0.5)
+    for _ in range(30):
+        f = bilinear(corners, s, r) - uv
+        ds = (1 - r)[:, None] * (c1 - c0) + r[:, None] * (c2 - c3)
+        dr = (1 - s)[:, None] * (c3 - c0) + s[:, None] * (c2 - c1)
+        det = cross2(ds, dr)
+        det = np.where(np.abs(det) < 1e-300, 1e-300, det)
+        step_s = cross2(f, dr) / det
+        step_r = cross2(ds, f) / det
+        s = s - step_s
+        r = r - step_r
+        if np.max(np.abs(step_s) + np.abs(step_r)) < 1e-14:
+            break
+    return np.clip(s, 0.0, 1.0), np.clip(r, 0.0, 1.0)
+
+
+def ray_exit(p: FloatArray, direction: FloatArray, poly: FloatArray) -> float:
+    """Distance parameter t >= 0 where the ray p + t*direction leaves the convex polygon (n, 2)."""
+    a = poly
+    b = np.roll(poly, -1, axis=0)
+    t, s, parallel = segment_intersections(p, p + direction, a, b)
+    ok = ~parallel & (s >= -1e-9) & (s <= 1 + 1e-9) & (t > 1e-12)
+    if not np.any(ok):
+        return 0.0
+    return float(np.min(t[ok]))

@@ -1,0 +1,389 @@
+"""Progressive update of the patch network by one interior stroke: Qin & Wright section 3
+(2006 text, steps (1)-(9), Fig. 5-8; motion-sketch text, Eq. 2 and Fig. 5 cases a-d).
+
+One call of :func:`add_stroke` either accepts the stroke and changes the network, or rejects it
+with a reason and leaves the network exactly as it was.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .errors import ProgSurfError, StrokeOutsideSurfaceError, StrokeRejectedError
+from .network import OUTER_CURVES, PatchNetwork
+from .preimage import ray_exit, segment_intersections
+from .types import FloatArray, Polyline, Tolerances
+
+NODE_MERGE_UV = 2e-3
+"""A crossing closer than this to an existing node (in the unit square) uses that node, so no
+sliver regions are made."""
+
+MAX_DEPTH = 5
+"""Recursion depth of the pre-image straightness test (up to 32 straight pieces)."""
+
+
+@dataclass(frozen=True)
+class StrokeRecord:
+    """What happened to one stroke.
+
+    index   : the stroke's position in the input
+    role    : "boundary" or "interior"
+    status  : "accepted" or "rejected"
+    reason  : why it was rejected, or a short note of what was done
+    pre_image : (k, 2) the pre-image polyline in the unit square (with extensions), or None
+    curve_ids : network curves made from this stroke (one per straight piece)
+    regions_created, regions_removed : region ids
+    pulled_curves : ids of earlier curves pulled to this stroke (later strokes win)
+    ends    : how each end was placed: "snapped" (on/crossing a boundary) or "footpoint"
+    end_offsets_mm : |Q - F| at each end placed by a footpoint (0 for snapped ends)
+    points  : (n, 3) the stroke as it was used (filtered, trimmed), or None
+    """
+
+    index: int
+    role: str
+    status: str
+    reason: str = ""
+    pre_image: Optional[FloatArray] = None
+    curve_ids: tuple = ()
+    regions_created: tuple = ()
+    regions_removed: tuple = ()
+    pulled_curves: tuple = ()
+    ends: tuple = ()
+    end_offsets_mm: tuple = ()
+    points: Optional[FloatArray] = None
+
+
+@dataclass
+class _End:
+    """One end of a straight piece: on an edge (snapped) or free at a footpoint."""
+
+    uv: FloatArray
+    xyz: FloatArray
+    snapped: bool
+    edge: int = -1
+    t: float = 0.0
+    offset: float = 0.0
+    region: int = -1
+
+
+@dataclass
+class _Work:
+    pre_image: list = field(default_factory=list)
+    curve_ids: list = field(default_factory=list)
+    pulled: set = field(default_factory=set)
+    ends: list = field(default_factory=list)
+    offsets: list = field(default_factory=list)
+
+
+def _edge_segments(net: PatchNetwork):
+    """All 3D segments of all edge polylines: A (S,3), B (S,3), edge id (S,), t0, t1 (S,)."""
+    a, b, eid, t0, t1 = [], [], [], [], []
+    for k, e in net.edges().items():
+        p, q = e.polyline.points, e.polyline.params
+        a.append(p[:-1]); b.append(p[1:])
+        eid.append(np.full(len(p) - 1, k)); t0.append(q[:-1]); t1.append(q[1:])
+    return (np.concatenate(a), np.concatenate(b), np.concatenate(eid),
+            np.concatenate(t0), np.concatenate(t1))
+
+
+def _snap_end(net: PatchNetwork, pts: FloatArray, snap: float, segs) -> Optional[tuple]:
+    """Step (2): is the first end of pts on or crossing a boundary curve?
+
+    Tests the distance from the points of the first half of the stroke to every current boundary
+    (outer sides, earlier strokes). Over-sketch past an outer side may be any length; past an
+    interior curve it may be at most max(2 snap, 15% of the stroke), so a stroke that truly
+    crosses an earlier one is not cut there. Returns (j, edge id, t, point) or None."""
+    a, b, eid, t0, t1 = segs
+    h = max(1, len(pts) // 2)
+    p = pts[:h]
+    ab = b - a
+    ll = np.einsum("ij,ij->i", ab, ab)
+    w = np.einsum("hsk,sk->hs", p[:, None, :] - a[None], ab) / np.where(ll > 1e-300, ll, 1.0)
+    w = np.clip(w, 0.0, 1.0)
+    close = a[None] + w[..., None] * ab[None]
+    d = np.linalg.norm(p[:, None, :] - close, axis=2)
+    edges = net.edges()
+    outer = np.array([edges[k].curve_id in OUTER_CURVES for k in eid])
+    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    limit = max(2.0 * snap, 0.15 * run[-1])
+    allowed = outer[None, :] | (run[:h, None] <= limit)
+    d = np.where(allowed, d, np.inf)
+    j, s = np.unravel_index(int(np.argmin(d)), d.shape)
+    if not d[j, s] < snap:
+        return None
+    t = t0[s] + w[j, s] * (t1[s] - t0[s])
+    return int(j), int(eid[s]), float(t), close[j, s]
+
+
+def _free_end(net: PatchNetwork, q: FloatArray, which: str, snap: float) -> _End:
+    """Step (6): the footpoint of a free end (Eq. 2); reject when it projects outside."""
+    f = net.footpoint(q, slack=snap)
+    if not f.inside:
+        raise StrokeOutsideSurfaceError(
+            f"its {which} end ({q[0]:.1f}, {q[1]:.1f}, {q[2]:.1f}) projects outside the surface "
+            f"(nearest surface point is on the outer boundary, {abs(f.distance):.2f} mm away); "
+            "draw interior strokes over the surface")
+    return _End(uv=f.uv, xyz=q, snapped=False, offset=float(abs(f.distance)), region=f.region)
+
+
+def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
+                     i0: int, i1: int, tol: float, snap: float, depth: int = 0) -> list[int]:
+    """Step (6), last paragraph: split at the middle point recursively until each piece's
+    pre-image is straight within tol. Returns interior break indices."""
+    if i1 - i0 < 2 or depth >= MAX_DEPTH:
+        return []
+    m = (i0 + i1) // 2
+    f = net.footpoint(pts[m], slack=snap)
+    if not f.inside:
+        raise StrokeOutsideSurfaceError(
+            f"its point {m} ({pts[m][0]:.1f}, {pts[m][1]:.1f}, {pts[m][2]:.1f}) projects outside the surface")
+    d = uv1 - uv0
+    length = np.linalg.norm(d)
+    off = abs(float(d[0] * (f.uv[1] - uv0[1]) - d[1] * (f.uv[0] - uv0[0]))) / max(length, 1e-300)
+    if off <= tol:
+        return []
+    return (_straight_pieces(net, pts, uv0, f.uv, i0, m, tol, snap, depth + 1) + [m]
+            + _straight_pieces(net, pts, f.uv, uv1, m, i1, tol, snap, depth + 1))
+
+
+def _extension(net: PatchNetwork, end: _End, away: FloatArray, falloff: str) -> tuple[FloatArray, FloatArray]:
+    """Steps (7)-(8): extend the pre-image from the footpoint F away from the stroke to the
+    boundary g of the region it is in; the 3D points are the surface plus the offset Q - F,
+    distributed evenly (linear) or smoothly (cubic) from F to g. Returns (uv (k,2), xyz (k,3)),
+    from F (exclusive) to g (inclusive)."""
+    direction = away / max(np.linalg.norm(away), 1e-300)
+    rid = net.locate(end.uv)
+    length = ray_exit(end.uv, direction, net.region_polygon(rid))
+    if length <= 1e-9:
+        return np.empty((0, 2)), np.empty((0, 3))
+    k = max(4, int(np.ceil(length * 4 * net.mesh_density)))
+    w = np.linspace(0.0, 1.0, k + 1)[1:]
+    uv = end.uv + np.outer(w * length, direction)
+    surface = net.evaluate_uv(uv)
+    delta = end.xyz - net.evaluate_uv(end.uv)
+    fall = 1.0 - w if falloff == "linear" else 2 * w**3 - 3 * w**2 + 1
+    return uv, surface + fall[:, None] * delta
+
+
+def _node_at(net: PatchNetwork, eid: int, t: float, xyz: FloatArray, pull: bool) -> int:
+    """A node at edge parameter t, reusing an end node when it is within NODE_MERGE_UV."""
+    e = net.edges()[eid]
+    length = np.linalg.norm(e.uv1 - e.uv0)
+    if t * length <= NODE_MERGE_UV:
+        return e.node0
+    if (1.0 - t) * length <= NODE_MERGE_UV:
+        return e.node1
+    return net.split_edge(eid, t, xyz, pull)
+
+
+def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: _End, end: _End,
+                  curve_id: int, tol: Tolerances, falloff: str, work: _Work) -> None:
+    """Steps (3)-(5) for one straight piece: extend, cross, pull, subdivide, rebuild."""
+    ext0_uv, ext0_xyz = (np.empty((0, 2)), np.empty((0, 3))) if start.snapped else \
+        _extension(net, start, start.uv - end.uv, falloff)
+    ext1_uv, ext1_xyz = (np.empty((0, 2)), np.empty((0, 3))) if end.snapped else \
+        _extension(net, end, end.uv - start.uv, falloff)
+    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    if run[-1] <= 0:
+        raise StrokeRejectedError("it has zero length")
+    main_uv = start.uv + np.outer(run / run[-1], end.uv - start.uv)
+    uv = np.vstack([ext0_uv[::-1], main_uv, ext1_uv])
+    xyz = np.vstack([ext0_xyz[::-1], pts, ext1_xyz])
+    p0, p1 = uv[0], uv[-1]
+    line = p1 - p0
+    length = float(np.linalg.norm(line))
+    if length < 1e-6:
+        raise StrokeRejectedError("its pre-image has no length (both ends map to the same surface point)")
+    t = np.clip((uv - p0) @ line / length**2, 0.0, 1.0)
+    keep = np.concatenate([[True], np.diff(t) > 1e-12])
+    keep[-1] = True
+    t, xyz = t[keep], xyz[keep]
+    t = np.maximum.accumulate(t)
+    t[0], t[-1] = 0.0, 1.0
+    if len(t) > 2 and np.any(np.diff(t) <= 0):
+        xyz = np.vstack([xyz[0], xyz[1:-1][np.diff(t[:-1]) > 0], xyz[-1]])
+        t = np.concatenate([[0.0], t[1:-1][np.diff(t[:-1]) > 0], [1.0]])
+    full = Polyline(xyz, t)
+    work.pre_image.append(np.array([p0, p1]))
+
+    # Crossings of the pre-image line with every edge (step 3: affected regions).
+    edges = net.edges()
+    ids = np.array(list(edges))
+    a = np.array([edges[k].uv0 for k in ids])
+    b = np.array([edges[k].uv1 for k in ids])
+    tl, se, parallel = segment_intersections(p0, p1, a, b)
+    rel0 = np.abs((a - p0) @ np.array([-line[1], line[0]])) / length
+    rel1 = np.abs((b - p0) @ np.array([-line[1], line[0]])) / length
+    overlap = parallel & (rel0 < 1e-9) & (rel1 < 1e-9)
+    if np.any(overlap):
+        proj = np.column_stack([(a - p0) @ line, (b - p0) @ line]) / length**2
+        lo, hi = proj.min(axis=1), proj.max(axis=1)
+        runs_along = overlap & (np.minimum(hi, 1) - np.maximum(lo, 0) > 1e-6)
+        if np.any(runs_along):
+            cid = edges[ids[np.flatnonzero(runs_along)[0]]].curve_id
+            raise StrokeRejectedError(f"its pre-image runs along curve {cid}")
+    eps = 1e-9
+    hit = ~parallel & (se >= -eps) & (se <= 1 + eps) & (tl >= -1e-7) & (tl <= 1 + 1e-7)
+    crossings = sorted((float(tl[k]), int(ids[k]), float(np.clip(se[k], 0, 1))) for k in np.flatnonzero(hit))
+    if not crossings or crossings[0][0] > 1e-6 or crossings[-1][0] < 1 - 1e-6:
+        raise StrokeRejectedError("its pre-image does not end on a boundary (internal inconsistency)")
+
+    # Nodes along the line; later strokes win (step 4): interior curves are pulled to the stroke.
+    nodes: list[tuple[float, int]] = []
+    for tk, eid, se_k in crossings:
+        if nodes and abs(tk - nodes[-1][0]) * length <= NODE_MERGE_UV:
+            continue
+        if eid not in net.edges():          # split already by an earlier crossing at a node
+            continue
+        e = net.edges()[eid]
+        at_end = tk <= 1e-6 or tk >= 1 - 1e-6
+        stroke_xyz = full.evaluate(tk)
+        pull = not at_end and e.curve_id not in OUTER_CURVES
+        nid = _node_at(net, eid, se_k, stroke_xyz, pull)
+        if pull and nid in (e.node0, e.node1) and not net.is_outer_node(nid):
+            net.move_node(nid, stroke_xyz)
+        if pull:
+            work.pulled.add(e.curve_id)
+        nodes.append((tk, nid))
+    if len(nodes) < 2:
+        raise StrokeRejectedError("its pre-image is shorter than the node spacing")
+
+    for (ta, na), (tb, nb) in zip(nodes[:-1], nodes[1:]):
+        if na == nb:
+            continue
+        if (na, nb) in net._edge_index:
+            raise StrokeRejectedError(f"its pre-image runs along curve {net.edges()[net.edge_between(na, nb)[0]].curve_id}")
+        inner = (full.params > ta + 1e-12) & (full.params < tb - 1e-12)
+        sub_t = np.concatenate([[ta], full.params[inner], [tb]])
+        sub_p = np.vstack([full.evaluate(ta), full.points[inner], full.evaluate(tb)])
+        poly = Polyline(sub_p, (sub_t - ta) / (tb - ta))
+        t_col = poly.params[:, None]
+        poly = Polyline(poly.points + (1 - t_col) * (net.node_xyz(na) - sub_p[0])
+                        + t_col * (net.node_xyz(nb) - sub_p[-1]), poly.params)
+        mid = 0.5 * (net.node_uv(na) + net.node_uv(nb))
+        rid = net.locate(mid)
+        cyc = net.region_cycle(rid)
+        if na not in cyc or nb not in cyc:
+            raise StrokeRejectedError("its pre-image passes too close to an existing node")
+        for new in net.add_chord(rid, na, nb, curve_id, poly):
+            _make_three_or_four_sided(net, old, new, na, nb)
+
+
+def _make_three_or_four_sided(net: PatchNetwork, old: PatchNetwork, rid: int, a: int, b: int) -> None:
+    """Step (4), Fig. 6(c): a chord across two adjacent sides leaves a pentagon; split it into
+    two 4-sided regions by a curve from the corner opposite the chord to the chord's middle M.
+    The new curve follows the old surface with the offset at M distributed linearly."""
+    corners = net.region_corner_ids(rid)
+    if len(corners) in (3, 4):
+        return
+    if len(corners) != 5 or a not in corners or b not in corners:
+        raise StrokeRejectedError(f"subdividing would leave a {len(corners)}-sided region")
+    k = list(corners)
+    i = k.index(a)
+    k = k[i:] + k[:i]                      # a first
+    if k[-1] != b:                         # orientation: chord is the side b -> a
+        k = [k[0]] + k[1:][::-1]
+    opposite = k[2]
+    eid, rev = net.edge_between(a, b)
+    m = net.split_edge(eid, 0.5, net.edges()[eid].polyline.evaluate(0.5), pull=False)
+    uv0, uv1 = net.node_uv(opposite), net.node_uv(m)
+    n = max(4, int(np.ceil(np.linalg.norm(uv1 - uv0) * 4 * net.mesh_density)))
+    w = np.linspace(0.0, 1.0, n + 1)
+    uv = uv0 + np.outer(w, uv1 - uv0)
+    pts = old.evaluate_uv(uv)
+    pts = pts + (1 - w)[:, None] * (net.node_xyz(opposite) - pts[0]) + w[:, None] * (net.node_xyz(m) - pts[-1])
+    curve = net.new_curve_id("split")
+    for new in net.add_chord(rid, opposite, m, curve, Polyline(pts, w)):
+        if len(net.region_corner_ids(new)) not in (3, 4):
+            raise StrokeRejectedError("subdividing would leave a region that is not 3- or 4-sided")
+
+
+def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerances, snap: float,
+               falloff: str = "linear") -> StrokeRecord:
+    """Add one interior stroke (steps (1)-(9)); never raises for a bad stroke: the record says why.
+
+    stroke : (n, 3) filtered points of the stroke, in drawing order
+    snap   : snap distance in mm (step 2)
+    falloff: "linear" (the paper's even distribution) or "smooth" (cubic) for the end offsets
+    """
+    snap_state = net.snapshot()
+    old = net.clone()
+    net.take_log()
+    work = _Work()
+    pts = np.array(stroke, dtype=float)
+    try:
+        if len(pts) < 2:
+            raise StrokeRejectedError(f"it has {len(pts)} point(s) after filtering; a stroke needs at least 2")
+        pieces = [pts]
+        if len(pts) >= 4 and np.linalg.norm(pts[0] - pts[-1]) < snap:
+            far = int(np.argmax(np.linalg.norm(pts - pts[0], axis=1)))
+            pieces = [pts[: far + 1], pts[far:]]          # a closed stroke: two open pieces
+        used = []
+        for piece in pieces:
+            used.append(_add_open(net, old, piece, index, tol, snap, falloff, work))
+    except ProgSurfError as err:
+        net.restore(snap_state)
+        return StrokeRecord(index, "interior", "rejected", str(err), points=pts)
+    log = net.take_log()
+    created = tuple(r for kind, r in log if kind == "created" and r in net.region_ids)
+    removed = tuple(r for kind, r in log if kind == "removed" and r in old.region_ids)
+    note = f"{len(work.curve_ids)} straight piece(s); ends: {', '.join(work.ends)}"
+    if work.pulled:
+        note += f"; pulled curve(s) {sorted(work.pulled)} to it"
+    return StrokeRecord(index, "interior", "accepted", note, np.vstack(work.pre_image),
+                        tuple(work.curve_ids), created, removed, tuple(sorted(work.pulled)),
+                        tuple(work.ends), tuple(work.offsets), np.vstack(used))
+
+
+def _placed(net: PatchNetwork, pts: FloatArray, snap: float, which: str) -> _End:
+    """The end pts[0] on the current network: snapped when it is on a boundary, else free."""
+    snapped = _snap_end(net, pts, snap, _edge_segments(net))
+    if snapped is not None and snapped[0] == 0:
+        _, e, t, p = snapped
+        ev = net.edges()[e]
+        return _End(uv=ev.uv0 + t * (ev.uv1 - ev.uv0), xyz=p, snapped=True, edge=e, t=t)
+    return _free_end(net, pts[0], which, snap)
+
+
+def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances,
+              snap: float, falloff: str, work: _Work) -> FloatArray:
+    """One open stroke: snap/trim its ends, find its straight pieces, insert them in turn."""
+    segs = _edge_segments(net)
+    first = _snap_end(net, pts, snap, segs)
+    if first is not None:
+        j, eid, t, p = first
+        pts = np.vstack([p, pts[j + 1:]])
+    last = _snap_end(net, pts[::-1], snap, segs)
+    if last is not None:
+        j, eid2, t2, p2 = last
+        pts = np.vstack([pts[: len(pts) - 1 - j], p2])
+    if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9:
+        raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
+
+    def end_of(snapped, q, which):
+        if snapped is None:
+            return _free_end(net, q, which, snap)
+        _, e, t, p = snapped
+        ev = net.edges()[e]
+        return _End(uv=ev.uv0 + t * (ev.uv1 - ev.uv0), xyz=p, snapped=True, edge=e, t=t)
+
+    start, end = end_of(first, pts[0], "first"), end_of(last, pts[-1], "last")
+    breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
+    bounds = [0] + breaks + [len(pts) - 1]
+    for k in range(len(bounds) - 1):
+        piece = pts[bounds[k]: bounds[k + 1] + 1]
+        if k == 0 and len(bounds) == 2:
+            s, e = start, end
+        else:
+            # The network has changed since the ends were found: place them again on it. A break
+            # point lies on the previous piece, so it snaps there without trimming.
+            s = start if k == 0 else _placed(net, piece, snap, "first")
+            e = _placed(net, piece[::-1], snap, "last")
+        work.ends.extend(["snapped" if x.snapped else "footpoint" for x in (s, e)])
+        work.offsets.extend([x.offset for x in (s, e)])
+        cid = net.new_curve_id("stroke", index)
+        work.curve_ids.append(cid)
+        _insert_piece(net, old, piece, s, e, cid, tol, falloff, work)
+    return pts

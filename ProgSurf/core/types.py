@@ -1,0 +1,59 @@
+"""Small immutable value types of the core, and numpy typing aliases."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.float64]
+"""Any float64 array; shapes are given in each docstring."""
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """All tolerances in one value, passed explicitly (never a module global).
+
+    filter_mm : 3D distance threshold of the stroke filter (paper, section 2); None = automatic
+    snap_mm   : distance under which a stroke end is taken to be on a boundary (step 2); None = automatic
+    fit_mm    : how far an OCC B-spline face may lie from its Coons sub-patch
+    param     : straightness tolerance of a pre-image in the unit square (step 6); the 3D stroke is
+                interpolated exactly whatever it is, so it only trades parameter quality for patches
+    gap_factor: the widest boundary gap that may be closed, as a fraction of the sketch diagonal
+    """
+
+    filter_mm: Optional[float] = None
+    snap_mm: Optional[float] = None
+    fit_mm: float = 0.01
+    param: float = 0.08
+    gap_factor: float = 0.25
+
+
+@dataclass(frozen=True)
+class Polyline:
+    """A 3D polyline with its pre-image parameters.
+
+    points : (n, 3) float, millimetres
+    params : (n,) float, strictly increasing from 0 to 1: the position of each point
+             along the straight pre-image of the curve it belongs to.
+    """
+
+    points: FloatArray
+    params: FloatArray
+
+    def __post_init__(self) -> None:
+        pts = np.array(self.points, dtype=float).reshape(-1, 3)
+        prm = np.array(self.params, dtype=float).reshape(-1)
+        pts.setflags(write=False)
+        prm.setflags(write=False)
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "params", prm)
+
+    def evaluate(self, t: npt.ArrayLike) -> FloatArray:
+        """Piecewise-linear point(s) at parameter(s) t in [0, 1]; returns (..., 3)."""
+        t = np.clip(np.asarray(t, dtype=float), 0.0, 1.0)
+        return np.stack([np.interp(t, self.params, self.points[:, k]) for k in range(3)], axis=-1)
+
+    def reversed(self) -> "Polyline":
+        return Polyline(self.points[::-1], 1.0 - self.params[::-1])
