@@ -110,7 +110,11 @@ def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
         k = idx[np.argmin(np.abs(d[idx]))]
         w = np.clip(np.array([1 - kr[k] - ks[k], kr[k], ks[k]]), 0.0, None)
         w /= w.sum()
-        return Footpoint(xyz=w @ tri[k], uv=w @ facets.uv[k], distance=float(d[k]),
+        foot = w @ tri[k]
+        # Within the slack the footpoint may fall just outside its facet: clamp it onto the
+        # surface and measure the distance to the clamped point, sign of d kept.
+        dist = float(np.copysign(np.linalg.norm(q - foot), d[k]))
+        return Footpoint(xyz=foot, uv=w @ facets.uv[k], distance=dist,
                          region=int(facets.region[k]), inside=True)
     w, dist = _closest_on_triangles(q, tri)
     k = int(np.argmin(dist))

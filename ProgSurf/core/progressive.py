@@ -153,10 +153,13 @@ def _extension(net: PatchNetwork, end: _End, away: FloatArray, falloff: str) -> 
     boundary g of the region it is in; the 3D points are the surface plus the offset Q - F,
     distributed evenly (linear) or smoothly (cubic) from F to g. Returns (uv (k,2), xyz (k,3)),
     from F (exclusive) to g (inclusive)."""
-    direction = away / max(np.linalg.norm(away), 1e-300)
+    norm = float(np.linalg.norm(away))
+    if not norm > 1e-12:
+        return np.empty((0, 2)), np.empty((0, 3))
+    direction = away / norm
     rid = net.locate(end.uv)
-    length = ray_exit(end.uv, direction, net.region_polygon(rid))
-    if length <= 1e-9:
+    length = min(ray_exit(end.uv, direction, net.region_polygon(rid)), np.sqrt(2.0))
+    if not length > 1e-9:
         return np.empty((0, 2)), np.empty((0, 3))
     k = max(4, int(np.ceil(length * 4 * net.mesh_density)))
     w = np.linspace(0.0, 1.0, k + 1)[1:]
@@ -167,28 +170,57 @@ def _extension(net: PatchNetwork, end: _End, away: FloatArray, falloff: str) -> 
     return uv, surface + fall[:, None] * delta
 
 
-def _node_at(net: PatchNetwork, eid: int, t: float, xyz: FloatArray, pull: bool) -> int:
-    """A node at edge parameter t, reusing an end node when it is within NODE_MERGE_UV."""
+def _node_at(net: PatchNetwork, eid: int, t: float, xyz: FloatArray, pull: bool, snap: float) -> int:
+    """A node at edge parameter t, reusing an end node when it is within NODE_MERGE_UV in the
+    pre-image and within the snap distance in 3D (a stretched surface can put nodes that are
+    close in (u, v) far apart in space)."""
     e = net.edges()[eid]
     length = np.linalg.norm(e.uv1 - e.uv0)
-    if t * length <= NODE_MERGE_UV:
-        return e.node0
-    if (1.0 - t) * length <= NODE_MERGE_UV:
-        return e.node1
+    here = e.polyline.evaluate(t)
+    for node, dist in ((e.node0, t * length), (e.node1, (1.0 - t) * length)):
+        if dist <= 1e-9 or (dist <= NODE_MERGE_UV and np.linalg.norm(net.node_xyz(node) - here) <= snap
+                            and np.linalg.norm(net.node_xyz(node) - xyz) <= snap):
+            return node
     return net.split_edge(eid, t, xyz, pull)
 
 
+def _line_params(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
+                 snap: float, anchors: int = 9) -> FloatArray:
+    """Where each stroke point lies along its straight pre-image uv0 -> uv1, in [0, 1].
+
+    The footpoints of a few anchor points (Eq. 2) are projected onto the line, and chord length
+    interpolates between them, so a crossing in the pre-image plane meets the stroke where its
+    footpoint is, not where its arc length happens to be. Falls back to chord length alone when
+    the anchors' projections are not in order."""
+    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    if run[-1] <= 0:
+        raise StrokeRejectedError("it has zero length")
+    chord = run / run[-1]
+    idx = np.unique(np.linspace(0, len(pts) - 1, min(len(pts), anchors)).round().astype(int))
+    if len(idx) <= 2:
+        return chord
+    d = uv1 - uv0
+    at = [0.0]
+    for i in idx[1:-1]:
+        f = net.footpoint(pts[i], slack=snap)
+        at.append(float((f.uv - uv0) @ d / (d @ d)))
+    at.append(1.0)
+    at = np.array(at)
+    if np.any(np.diff(at) <= 1e-9):
+        return chord
+    return np.interp(chord, chord[idx], at)
+
+
 def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: _End, end: _End,
-                  curve_id: int, tol: Tolerances, falloff: str, work: _Work) -> None:
+                  curve_id: int, tol: Tolerances, snap: float, falloff: str, work: _Work) -> None:
     """Steps (3)-(5) for one straight piece: extend, cross, pull, subdivide, rebuild."""
+    if not np.linalg.norm(end.uv - start.uv) > 1e-6:
+        raise StrokeRejectedError("its pre-image has no length (both ends map to the same surface point)")
     ext0_uv, ext0_xyz = (np.empty((0, 2)), np.empty((0, 3))) if start.snapped else \
         _extension(net, start, start.uv - end.uv, falloff)
     ext1_uv, ext1_xyz = (np.empty((0, 2)), np.empty((0, 3))) if end.snapped else \
         _extension(net, end, end.uv - start.uv, falloff)
-    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
-    if run[-1] <= 0:
-        raise StrokeRejectedError("it has zero length")
-    main_uv = start.uv + np.outer(run / run[-1], end.uv - start.uv)
+    main_uv = start.uv + np.outer(_line_params(net, pts, start.uv, end.uv, snap), end.uv - start.uv)
     uv = np.vstack([ext0_uv[::-1], main_uv, ext1_uv])
     xyz = np.vstack([ext0_xyz[::-1], pts, ext1_xyz])
     p0, p1 = uv[0], uv[-1]
@@ -241,7 +273,7 @@ def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: 
         at_end = tk <= 1e-6 or tk >= 1 - 1e-6
         stroke_xyz = full.evaluate(tk)
         pull = not at_end and e.curve_id not in OUTER_CURVES
-        nid = _node_at(net, eid, se_k, stroke_xyz, pull)
+        nid = _node_at(net, eid, se_k, stroke_xyz, pull, snap)
         if pull and nid in (e.node0, e.node1) and not net.is_outer_node(nid):
             net.move_node(nid, stroke_xyz)
         if pull:
@@ -385,5 +417,5 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
         work.offsets.extend([x.offset for x in (s, e)])
         cid = net.new_curve_id("stroke", index)
         work.curve_ids.append(cid)
-        _insert_piece(net, old, piece, s, e, cid, tol, falloff, work)
+        _insert_piece(net, old, piece, s, e, cid, tol, snap, falloff, work)
     return pts

@@ -1,0 +1,388 @@
+"""From an unordered set of rough strokes to a closed four-sided boundary loop.
+
+Qin & Wright (2006, "Progressive surface modelling from unorganised curves"), section 2.1, and the
+motion-sketch paper, section 2 (Fig. 2: boundary search and closing; Fig. 3: merge; Fig. 4: three
+sides):
+
+1. project all strokes onto their best-fit plane (`best_fit_plane`), not a fixed XY plane;
+2. classify boundary vs interior strokes by rays from the centroid of the projection: the furthest
+   stroke a ray hits is a boundary stroke (`classify_strokes`, Fig. 2a);
+3. order and orient the boundary strokes into one loop, cut crossing strokes at their intersection
+   and extend short ends in the projection plane until they meet; the corner is the 3D midpoint
+   (`close_boundary`, Fig. 2b);
+4. merge adjacent sides of closest chord orientation until four are left, ties to the shortest
+   total chord length; three sides get a degenerate fourth (`merge_to_four`, Fig. 4);
+5. give opposite sides equal point counts by inserting midpoints on the longest chord (`equalise`).
+
+`make_boundary` runs all of it and returns a `BoundaryLoop` oriented for the Coons patch of Eq. (1).
+The 2D geometry of steps 2-3 lives in `closing.py`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+from .closing import ClosedSide, close_loop, project
+from .errors import DegenerateSketchError, InvalidOptionError, OpenBoundaryError
+from .strokes import (auto_filter_threshold, chord_length, filter_stroke, resample_arclength,
+                      sketch_diagonal, validate_stroke)
+from .types import FloatArray, Tolerances
+
+__all__ = ["Plane", "BoundaryLoop", "best_fit_plane", "classify_strokes", "close_boundary",
+           "merge_to_four", "equalise", "resample_arclength", "make_boundary"]
+
+N_RAYS = 720
+"""Rays cast from the centroid in `classify_strokes` (one every half degree)."""
+
+MIN_RAY_HITS = 2
+"""A boundary stroke is the furthest hit of at least this many rays ..."""
+
+MIN_FURTHEST_FRACTION = 0.5
+"""... and of at least this fraction of the rays that hit it at all.  An interior stroke seen through
+a gap at a corner is the furthest only for the few rays that slip through the gap, while it is hit
+(in front of the boundary) by every ray across its angular extent; a boundary stroke is the furthest
+for nearly all the rays that hit it."""
+
+TIE_RAD = 1e-6
+"""Orientation differences closer than this are a tie in the merge criterion (2006, step 3)."""
+
+
+@dataclass(frozen=True)
+class Plane:
+    """The projection plane.
+
+    origin : (3,) float, the centroid of the points
+    normal : (3,) float, unit
+    axes   : (2, 3) float, orthonormal in-plane axes with axes[0] x axes[1] = normal
+    """
+
+    origin: FloatArray
+    normal: FloatArray
+    axes: FloatArray
+
+    def __post_init__(self) -> None:
+        for name, shape in (("origin", (3,)), ("normal", (3,)), ("axes", (2, 3))):
+            arr = np.array(getattr(self, name), dtype=float).reshape(shape)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+    def project(self, points: npt.ArrayLike) -> FloatArray:
+        """In-plane coordinates of (..., 3) points: (..., 2)."""
+        return project(points, self.origin, self.axes)
+
+    def flipped(self) -> "Plane":
+        """The same plane with the opposite normal (axes[1] reversed to stay right-handed)."""
+        return Plane(self.origin, -self.normal, np.stack([self.axes[0], -self.axes[1]]))
+
+
+def best_fit_plane(points: npt.ArrayLike) -> Plane:
+    """Least-squares plane of (n, 3) points by SVD of the centred points.
+
+    The normal is the singular vector of the smallest singular value.  Raises DegenerateSketchError
+    when the points coincide or lie on one line (no plane to project on).
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    if pts.shape[0] == 0 or not np.isfinite(pts).all():
+        raise DegenerateSketchError("the sketch has no finite points; give strokes with x y z coordinates")
+    origin = pts.mean(axis=0)
+    centred = pts - origin
+    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
+    scale = float(np.abs(centred).max())
+    if pts.shape[0] < 2 or sv[0] <= 1e-12 * max(scale, 1e-300) or scale == 0.0:
+        raise DegenerateSketchError(
+            f"all {pts.shape[0]} points of the sketch coincide at {origin.round(6).tolist()}; "
+            "draw strokes that span a surface"
+        )
+    if pts.shape[0] < 3 or sv[1] <= 1e-9 * sv[0]:
+        raise DegenerateSketchError(
+            f"all {pts.shape[0]} points of the sketch lie on one line (direction {vt[0].round(4).tolist()}); "
+            "a surface needs strokes that span two directions"
+        )
+    a0 = vt[0] * (1.0 if vt[0][np.argmax(np.abs(vt[0]))] > 0 else -1.0)
+    normal = vt[2] * (1.0 if vt[2][np.argmax(np.abs(vt[2]))] > 0 else -1.0)
+    a1 = np.cross(normal, a0)
+    return Plane(origin, normal, np.stack([a0, a1]))
+
+
+def classify_strokes(
+    strokes: Sequence[npt.ArrayLike], plane: Plane, n_rays: int = N_RAYS, min_hits: int = MIN_RAY_HITS,
+    min_fraction: float = MIN_FURTHEST_FRACTION,
+) -> tuple[list[int], list[int]]:
+    """Boundary and interior stroke indices (motion-sketch paper, section 2, Fig. 2a).
+
+    Rays are cast from the centroid of the projected points at `n_rays` equal angles; the stroke
+    with the furthest intersection along a ray is a boundary candidate; candidates that are the
+    furthest for at least `min_hits` rays and for at least `min_fraction` of the rays crossing them
+    are boundary strokes, all others interior.
+    """
+    arrays = [np.asarray(s, dtype=float).reshape(-1, 3) for s in strokes]
+    uv = [plane.project(a) for a in arrays]
+    allpts = np.concatenate(uv) if uv else np.zeros((0, 2))
+    if allpts.shape[0] == 0:
+        raise DegenerateSketchError("no strokes to classify; give at least three boundary strokes")
+    centre = allpts.mean(axis=0)
+    starts = np.concatenate([u[:-1] for u in uv if u.shape[0] > 1] or [np.zeros((0, 2))])
+    ends = np.concatenate([u[1:] for u in uv if u.shape[0] > 1] or [np.zeros((0, 2))])
+    owner = np.concatenate([np.full(u.shape[0] - 1, i) for i, u in enumerate(uv) if u.shape[0] > 1]
+                           or [np.zeros(0, int)])
+    theta = 2.0 * np.pi * (np.arange(n_rays) + 0.5) / n_rays
+    dirs = np.stack([np.cos(theta), np.sin(theta)], axis=1)
+    hits = np.zeros(len(arrays), dtype=int)
+    crossed = np.zeros(len(arrays), dtype=int)
+    if starts.shape[0]:
+        e = ends - starts  # (M, 2)
+        w = starts - centre
+        with np.errstate(divide="ignore", invalid="ignore"):
+            den = dirs[:, None, 0] * e[None, :, 1] - dirs[:, None, 1] * e[None, :, 0]  # (K, M)
+            t = (w[None, :, 0] * e[None, :, 1] - w[None, :, 1] * e[None, :, 0]) / den
+            s = (w[None, :, 0] * dirs[:, None, 1] - w[None, :, 1] * dirs[:, None, 0]) / den
+        ok = np.isfinite(t) & np.isfinite(s) & (t > 0) & (s >= 0) & (s <= 1)
+        t = np.where(ok, t, -np.inf)
+        best = np.argmax(t, axis=1)
+        hit_rays = np.isfinite(t[np.arange(n_rays), best])
+        np.add.at(hits, owner[best[hit_rays]], 1)
+        for i in range(len(arrays)):
+            crossed[i] = int(ok[:, owner == i].any(axis=1).sum())
+    boundary = [i for i in range(len(arrays))
+                if hits[i] >= min_hits and hits[i] >= min_fraction * crossed[i]]
+    if not boundary:
+        boundary = [i for i in range(len(arrays)) if hits[i] > 0]
+    if not boundary:
+        raise OpenBoundaryError(
+            "no stroke surrounds the centre of the sketch, so no boundary was found; "
+            "draw the boundary strokes around the surface or name them explicitly"
+        )
+    interior = [i for i in range(len(arrays)) if i not in set(boundary)]
+    return boundary, interior
+
+
+def close_boundary(
+    strokes_3d: Sequence[npt.ArrayLike], plane: Plane, tol: Tolerances = Tolerances(),
+    diagonal: Optional[float] = None,
+) -> list[FloatArray]:
+    """The boundary strokes as one closed, oriented loop of sides (Fig. 2b); see `closing.close_loop`.
+
+    strokes_3d : boundary strokes, (n_i, 3) each, any order and direction
+    diagonal   : sketch diagonal for the gap limit (default: that of these strokes)
+    Returns the sides in loop order; side k ends exactly where side k+1 starts.
+    """
+    arrays = [validate_stroke(s, i) for i, s in enumerate(strokes_3d)]
+    if diagonal is None:
+        diagonal = sketch_diagonal(np.concatenate(arrays)) if arrays else 0.0
+    sides, _ = close_loop(arrays, list(range(len(arrays))), plane, tol, diagonal)
+    return [s.points.copy() for s in sides]
+
+
+def _chord_angle(side: FloatArray, plane: Plane) -> float:
+    chord = plane.project(side[-1]) - plane.project(side[0])
+    return float(np.arctan2(chord[1], chord[0]))
+
+
+def _merge_groups(sides: Sequence[FloatArray], plane: Plane) -> tuple[list[list[int]], list[str]]:
+    """2006 paper, section 2.1 steps (1)-(4) as groups of consecutive side indices (cyclic)."""
+    groups = [[i] for i in range(len(sides))]
+    pts = [np.asarray(s, dtype=float) for s in sides]
+    notes = []
+    while len(groups) > 4:
+        comp = [np.concatenate([pts[i] for i in g]) for g in groups]
+        ang = [_chord_angle(np.stack([pts[g[0]][0], pts[g[-1]][-1]]), plane) for g in groups]
+        length = [chord_length(c) for c in comp]
+        m = len(groups)
+        diff = [abs((ang[(k + 1) % m] - ang[k] + np.pi) % (2 * np.pi) - np.pi) for k in range(m)]
+        best = min(diff)
+        tied = [k for k in range(m) if diff[k] - best <= TIE_RAD]
+        k = min(tied, key=lambda k: (min(length[k], length[(k + 1) % m]), length[k] + length[(k + 1) % m]))
+        j = (k + 1) % m
+        notes.append(f"merged sides of strokes {groups[k]} and {groups[j]}: chord orientations differ by "
+                     f"{np.degrees(diff[k]):.1f} deg, the closest of {m} sides")
+        merged = groups[k] + groups[j]
+        if j == 0:
+            groups = [merged] + groups[1:k]
+        else:
+            groups = groups[:k] + [merged] + groups[j + 1:]
+    return groups, notes
+
+
+def _join(parts: Sequence[FloatArray]) -> FloatArray:
+    """Concatenate sides that meet end to start, dropping the shared points."""
+    out = [np.asarray(parts[0], dtype=float)]
+    out += [np.asarray(p, dtype=float)[1:] for p in parts[1:]]
+    return np.concatenate(out)
+
+
+def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None) -> list[FloatArray]:
+    """N sides of a closed loop (in loop order, each ending where the next starts) to exactly four.
+
+    More than four: Qin & Wright 2006, section 2.1: repeatedly merge the two adjacent sides whose
+    chord directions (in the projection plane) differ least; ties go to the pair holding the curve
+    with the shortest total chord length.  Three sides: a degenerate side (one point repeated) is
+    inserted after sides[1], so that the result reads bottom, right, top (degenerate), left-reversed
+    with c3 == c2 (Fig. 4: F(u,1) = F1).  Four: returned as copies.  Fewer than three: OpenBoundaryError.
+    """
+    pts = [np.array(s, dtype=float).reshape(-1, 3) for s in sides]
+    if len(pts) < 3:
+        raise OpenBoundaryError(f"a boundary of {len(pts)} side(s) cannot bound a surface; it needs 3 or more")
+    if len(pts) == 3:
+        apex = pts[1][-1]
+        return [pts[0], pts[1], np.stack([apex, apex]), pts[2]]
+    if plane is None:
+        plane = best_fit_plane(np.concatenate(pts))
+    groups, _ = _merge_groups(pts, plane)
+    return [_join([pts[i] for i in g]) for g in groups]
+
+
+def equalise(a: npt.ArrayLike, b: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Opposite sides with equal point counts (2006, section 2.1): points are added to the side with
+    fewer, each at the middle of its currently longest chord, one at a time.  All original points are
+    kept in order; returns new arrays."""
+    a2 = np.array(a, dtype=float).reshape(-1, 3)
+    b2 = np.array(b, dtype=float).reshape(-1, 3)
+    swap = a2.shape[0] > b2.shape[0]
+    short, long_ = (b2, a2) if swap else (a2, b2)
+    if short.shape[0] < 2 and short.shape[0] < long_.shape[0]:
+        short = np.repeat(short[:1], 2, axis=0) if short.shape[0] else short
+    while 2 <= short.shape[0] < long_.shape[0]:
+        chords = np.linalg.norm(np.diff(short, axis=0), axis=1)
+        # the first of the longest chords; lengths equal to rounding count as equal (halves of a split
+        # chord), so the choice does not change under a rigid motion of the sketch
+        k = int(np.flatnonzero(chords >= chords.max() * (1.0 - 1e-9))[0])
+        short = np.insert(short, k + 1, 0.5 * (short[k] + short[k + 1]), axis=0)
+    return (long_, short) if swap else (short, long_)
+
+
+@dataclass(frozen=True)
+class BoundaryLoop:
+    """Four boundary sides oriented for the Coons patch of Eq. (1).
+
+    bottom : (n, 3) P(u,0), corner c0 -> c1      right : (m, 3) P(1,v), c1 -> c2
+    top    : (n, 3) P(u,1), corner c3 -> c2      left  : (m, 3) P(0,v), c0 -> c3
+    Corners are shared exactly; a triangle has top = n copies of c2 (== c3).
+    plane  : the projection plane, its normal oriented so the loop bottom, right, top, left runs
+             counter-clockwise around it (normal ~ dP/du x dP/dv)
+    source : input stroke indices making up (bottom, right, top, left)
+    notes  : what was cut, extended, split and merged, in order
+    """
+
+    bottom: FloatArray
+    right: FloatArray
+    top: FloatArray
+    left: FloatArray
+    plane: Plane
+    source: tuple[tuple[int, ...], ...] = ()
+    notes: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        for name in ("bottom", "right", "top", "left"):
+            arr = np.array(getattr(self, name), dtype=float).reshape(-1, 3)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+        object.__setattr__(self, "source", tuple(tuple(int(i) for i in s) for s in self.source))
+        object.__setattr__(self, "notes", tuple(str(n) for n in self.notes))
+
+    @property
+    def corners(self) -> FloatArray:
+        """(4, 3) c0, c1, c2, c3."""
+        return np.stack([self.bottom[0], self.bottom[-1], self.top[-1], self.top[0]])
+
+    @property
+    def triangle(self) -> bool:
+        """True when the top side is degenerate (three-sided boundary, Fig. 4)."""
+        return bool(np.all(self.top == self.top[0]))
+
+    @property
+    def sides(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        return self.bottom, self.right, self.top, self.left
+
+
+BoundarySpec = Union[None, int, Sequence[int]]
+
+
+def _boundary_indices(spec: BoundarySpec, n: int) -> Optional[list[int]]:
+    if spec is None:
+        return None
+    if isinstance(spec, (bool, np.bool_)):
+        raise InvalidOptionError(f"boundary={spec!r}; give None, a count N or a list of stroke indices")
+    if isinstance(spec, (int, np.integer)):
+        if not 1 <= spec <= n:
+            raise InvalidOptionError(f"boundary={int(spec)} but the sketch has {n} strokes; give 1..{n}")
+        return list(range(int(spec)))
+    try:
+        idx = [int(i) for i in spec]
+    except (TypeError, ValueError):
+        raise InvalidOptionError(f"boundary={spec!r}; give None, a count N or a list of stroke indices") from None
+    if any(isinstance(i, (bool, float)) for i in spec):
+        raise InvalidOptionError(f"boundary={spec!r} must list integer stroke indices")
+    bad = [i for i in idx if not 0 <= i < n]
+    if bad or not idx:
+        raise InvalidOptionError(f"boundary={spec!r}: index {bad[0] if bad else '(none)'} is not a stroke "
+                                 f"of this sketch (0..{n - 1}); give at least one valid index")
+    if len(set(idx)) != len(idx):
+        raise InvalidOptionError(f"boundary={spec!r} names a stroke twice; give each boundary stroke once")
+    return idx
+
+
+def make_boundary(
+    strokes: Sequence[npt.ArrayLike], boundary: BoundarySpec = None, tol: Tolerances = Tolerances()
+) -> tuple[BoundaryLoop, list[int]]:
+    """Steps 1-5 of the module docstring: the BoundaryLoop and the (sorted) interior stroke indices.
+
+    boundary : None = classify by rays; N = the first N strokes; list = these stroke indices.
+    Strokes are validated (InvalidStrokeError names the bad one) and filtered with tol.filter_mm
+    or `auto_filter_threshold`; the input arrays are not modified.
+    """
+    arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
+    if not arrays:
+        raise InvalidOptionError("no strokes given; a boundary needs at least one stroke")
+    chosen = _boundary_indices(boundary, len(arrays))
+    threshold = auto_filter_threshold(arrays) if tol.filter_mm is None else float(tol.filter_mm)
+    filtered = [filter_stroke(a, threshold) for a in arrays]
+    allpts = np.concatenate(filtered)
+    plane = best_fit_plane(allpts)
+    diagonal = sketch_diagonal(allpts)
+    notes = [f"filtered strokes with a 3D distance threshold of {threshold:.4g} mm"]
+    if chosen is None:
+        chosen, _ = classify_strokes(filtered, plane)
+        notes.append(f"rays from the centroid found boundary strokes {chosen}")
+    interior = sorted(set(range(len(arrays))) - set(chosen))
+    sides, close_notes = close_loop([filtered[i] for i in chosen], chosen, plane, tol, diagonal)
+    notes += close_notes
+    loop = _orient_to_first_stroke(sides)
+    pts = [s.points for s in loop]
+    sources = [s.source for s in loop]
+    if len(loop) > 4:
+        groups, merge_notes = _merge_groups(pts, plane)
+        notes += merge_notes
+        start = min(range(len(groups)), key=lambda g: min(loop[i].key for i in groups[g]))
+        groups = groups[start:] + groups[:start]
+        pts = [_join([loop[i].points for i in g]) for g in groups]
+        sources = [tuple(sorted({j for i in g for j in loop[i].source})) for g in groups]
+    if len(pts) == 3:
+        notes.append(f"three-sided boundary: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
+        sources.insert(2, ())
+    s0, s1, s2, s3 = merge_to_four(pts, plane)
+    bottom, top = equalise(s0, s2[::-1])
+    right, left = equalise(s1, s3[::-1])
+    area_normal = _loop_normal(np.concatenate([s0, s1[1:], s2[1:], s3[1:-1]]), plane)
+    out_plane = plane if area_normal >= 0 else plane.flipped()
+    return BoundaryLoop(bottom, right, top, left, out_plane, tuple(sources), tuple(notes)), interior
+
+
+def _orient_to_first_stroke(sides: list[ClosedSide]) -> list[ClosedSide]:
+    """Rotate the loop so the side holding the lowest stroke index (and its first part) comes first,
+    and reverse it if that stroke was drawn the other way.  Depends only on stroke order and drawing
+    direction, so the result is invariant under rigid motions and scaling."""
+    k = min(range(len(sides)), key=lambda i: sides[i].key)
+    loop = sides[k:] + sides[:k]
+    if loop[0].reversed_input:
+        loop = [loop[0].reversed()] + [s.reversed() for s in reversed(loop[1:])]
+    return loop
+
+
+def _loop_normal(loop3d: FloatArray, plane: Plane) -> float:
+    """Signed area of the closed loop projected on the plane (> 0: counter-clockwise about normal)."""
+    uv = plane.project(loop3d)
+    x, y = uv[:, 0], uv[:, 1]
+    return float(0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))

@@ -1,0 +1,303 @@
+"""Closing rough boundary strokes into one loop (Qin & Wright, motion-sketch paper section 2, Fig. 2b;
+2006 paper section 2.1 "a simple pre-processing can be conducted to make them intersect each other").
+
+All 2D work happens in the projection plane; 3D positions follow the same segment parameters, and a
+corner is the 3D midpoint of the two strokes' points above the 2D meeting point.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .errors import InvalidOptionError, InvalidStrokeError, OpenBoundaryError
+from .strokes import chord_length, cumulative_length, point_at_length
+from .types import FloatArray, Tolerances
+
+END_TANGENT_FRACTION = 0.1
+"""The end direction of a stroke is taken over this fraction of its length (robust to hand jitter)."""
+
+DIRECT_JOIN_RATIO = 3.0
+"""When reaching the tangent-line intersection would extend/trim the ends by more than this times the
+gap between them (nearly collinear ends), the ends are joined directly at their 3D midpoint instead."""
+
+CORNER_WINDOW = 0.03
+"""Turning angles for corner splitting are measured over +-3 % of the loop length."""
+
+
+def project(points: npt.ArrayLike, origin: FloatArray, axes: FloatArray) -> FloatArray:
+    """In-plane coordinates (..., 2) of (..., 3) points."""
+    return (np.asarray(points, dtype=float) - origin) @ np.asarray(axes).T
+
+
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def segment_intersections(a: FloatArray, b: FloatArray) -> tuple[FloatArray, ...]:
+    """All crossings of the segments of 2D polylines a (n, 2) and b (m, 2).
+
+    Returns (i, j, t, s): segment a[i]a[i+1] at fraction t meets b[j]b[j+1] at fraction s
+    (closed intervals; parallel segments are ignored)."""
+    if a.shape[0] < 2 or b.shape[0] < 2:
+        return (np.zeros(0, int), np.zeros(0, int), np.zeros(0), np.zeros(0))
+    p, r = a[:-1], np.diff(a, axis=0)
+    q, e = b[:-1], np.diff(b, axis=0)
+    w = q[None, :, :] - p[:, None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        den = _cross(r[:, None, :], e[None, :, :])
+        t = _cross(w, e[None, :, :]) / den
+        s = _cross(w, r[:, None, :]) / den
+    ok = np.isfinite(t) & np.isfinite(s) & (t >= 0) & (t <= 1) & (s >= 0) & (s <= 1)
+    i, j = np.nonzero(ok)
+    return i, j, t[i, j], s[i, j]
+
+
+@dataclass(frozen=True)
+class ClosedSide:
+    """One side of the closed loop.
+
+    points         : (n, 3) float, from the corner before to the corner after
+    source         : input stroke indices whose points it holds
+    key            : (lowest input index, part number along that stroke): orders sides intrinsically
+    reversed_input : True when it runs against the drawing direction of stroke key[0]
+    """
+
+    points: FloatArray
+    source: tuple[int, ...]
+    key: tuple[int, int]
+    reversed_input: bool
+
+    def reversed(self) -> "ClosedSide":
+        return ClosedSide(self.points[::-1].copy(), self.source, self.key, not self.reversed_input)
+
+
+def _end_direction(p3: FloatArray, at_end: bool) -> FloatArray:
+    """3D direction pointing out of the stroke at its end (at_end) or start."""
+    length = chord_length(p3)
+    h = END_TANGENT_FRACTION * length
+    if at_end:
+        return p3[-1] - point_at_length(p3, length - h)
+    return p3[0] - point_at_length(p3, h)
+
+
+@dataclass(frozen=True)
+class _Corner:
+    point: FloatArray  # (3,)
+    keep_until: int  # the previous stroke keeps vertices [.. keep_until)
+    keep_from: int  # the next stroke keeps vertices [keep_from ..)
+    note: str
+
+
+def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: FloatArray,
+                  limit: float, names: tuple[int, int], same: bool = False) -> _Corner:
+    """Where stroke a (ending) meets stroke b (starting): the crossing or the meeting point of the two
+    end tangents nearest the ends, or the midpoint of the ends when the tangents are nearly parallel."""
+    a2, b2 = project(a3, origin, axes), project(b3, origin, axes)
+    ca, cb = cumulative_length(a2), cumulative_length(b2)
+    ia0 = int(np.searchsorted(ca, 0.5 * ca[-1], side="right")) - 1
+    ib1 = int(np.searchsorted(cb, 0.5 * cb[-1], side="left")) + 1
+    ia0, ib1 = max(0, min(ia0, len(a2) - 2)), max(2, min(ib1, len(b2)))
+    da3, db3 = _end_direction(a3, True), _end_direction(b3, False)
+    da2, db2 = da3 @ axes.T, db3 @ axes.T
+    na, nb = float(np.linalg.norm(da2)), float(np.linalg.norm(db2))
+    reach = 2.0 * limit
+    ext_a = a3[-1] + (da3 / na * reach if na > 1e-12 * (1 + limit) else 0.0 * da3)
+    ext_b = b3[0] + (db3 / nb * reach if nb > 1e-12 * (1 + limit) else 0.0 * db3)
+    tail3 = np.vstack([a3[ia0:], ext_a])
+    head3 = np.vstack([ext_b, b3[:ib1]])
+    tail2, head2 = project(tail3, origin, axes), project(head3, origin, axes)
+    i, j, t, s = segment_intersections(tail2, head2)
+    if same:  # closing a single stroke on itself: ignore the shared middle of its two halves
+        far = (i == len(tail2) - 2) | (j == 0) | (np.abs(ia0 + i - (j - 1)) > 1)
+        i, j, t, s = i[far], j[far], t[far], s[far]
+    gap_ends = float(np.linalg.norm(a2[-1] - b2[0]))
+    end_gap3 = float(np.linalg.norm(a3[-1] - b3[0]))
+    la, lb = ca[-1], cb[-1]
+    if i.size:
+        seg_a = np.linalg.norm(np.diff(tail2, axis=0), axis=1)
+        seg_b = np.linalg.norm(np.diff(head2, axis=0), axis=1)
+        pos_a = (ca[ia0] + np.concatenate([[0.0], np.cumsum(seg_a)])[i] + t * seg_a[i]) - la
+        pos_b = (np.concatenate([[0.0], np.cumsum(seg_b)])[j] + s * seg_b[j]) - seg_b[0]
+        cost = np.abs(pos_a) + np.abs(pos_b)
+        k = int(np.argmin(cost))
+        extension = max(pos_a[k], 0.0) + max(-pos_b[k], 0.0)
+        crossing = pos_a[k] <= 0 and pos_b[k] >= 0
+        if crossing or cost[k] <= DIRECT_JOIN_RATIO * gap_ends + 1e-12 * (1 + limit):
+            if extension > limit:
+                raise _gap_error(names, extension, limit)
+            ik, jk = int(i[k]), int(j[k])
+            pa = tail3[ik] + t[k] * (tail3[ik + 1] - tail3[ik])
+            pb = head3[jk] + s[k] * (head3[jk + 1] - head3[jk])
+            keep_until = len(a3) if ik == len(tail3) - 2 else ia0 + ik + 1
+            keep_from = 0 if jk == 0 else jk
+            what = ("cut at their crossing" if crossing else
+                    f"extended in the projection plane by {extension:.3g} mm to meet")
+            trimmed = max(-pos_a[k], 0.0) + max(pos_b[k], 0.0)
+            tiny = 1e-9 * (1.0 + limit)
+            what = "cut at their crossing" if extension <= tiny else what
+            trimmed = 0.0 if trimmed <= tiny else trimmed
+            note = f"corner of strokes {names[0]}->{names[1]}: {what}" + (
+                f", {trimmed:.3g} mm of overshoot trimmed" if trimmed > 0 else "")
+            return _Corner(0.5 * (pa + pb), keep_until, keep_from, note)
+    if end_gap3 > limit:
+        raise _gap_error(names, end_gap3, limit)
+    note = f"corner of strokes {names[0]}->{names[1]}: ends {end_gap3:.3g} mm apart joined at their 3D midpoint"
+    return _Corner(0.5 * (a3[-1] + b3[0]), len(a3), 0, note)
+
+
+def _gap_error(names: tuple[int, int], width: float, limit: float) -> OpenBoundaryError:
+    return OpenBoundaryError(
+        f"the gap between the end of stroke {names[0]} and the start of stroke {names[1]} is {width:.4g} mm "
+        f"wide, more than the limit of {limit:.4g} mm (Tolerances.gap_factor x sketch diagonal); draw the "
+        "strokes closer together or raise gap_factor")
+
+
+def _unwrapped_turn(uv: FloatArray, centre: FloatArray) -> float:
+    ang = np.unwrap(np.arctan2(uv[:, 1] - centre[1], uv[:, 0] - centre[0]))
+    return float(ang[-1] - ang[0])
+
+
+def _order_strokes(strokes2d: list[FloatArray]) -> tuple[list[int], list[bool]]:
+    """Loop order and reversal flags: counter-clockwise around the centroid of the boundary points
+    (the same view the classification rays take); two strokes: join the nearer ends."""
+    k = len(strokes2d)
+    if k == 1:
+        return [0], [False]
+    if k == 2:
+        a, b = strokes2d
+        direct = np.linalg.norm(a[-1] - b[0]) + np.linalg.norm(b[-1] - a[0])
+        flipped = np.linalg.norm(a[-1] - b[-1]) + np.linalg.norm(b[0] - a[0])
+        return [0, 1], [False, bool(flipped < direct)]
+    centre = np.concatenate(strokes2d).mean(axis=0)
+    mids = []
+    for uv in strokes2d:
+        m = point_at_length(uv, 0.5 * chord_length(uv)) - centre
+        mids.append(np.arctan2(m[1], m[0]))
+    order = [int(i) for i in np.argsort(mids, kind="stable")]
+    flags = [_unwrapped_turn(strokes2d[i], centre) < 0 for i in order]
+    return order, flags
+
+
+def _turning(loop2d: FloatArray) -> FloatArray:
+    """Turning angle (rad) at each vertex of a closed 2D polyline, over a window of the loop length."""
+    seg = np.linalg.norm(np.diff(np.vstack([loop2d, loop2d[:1]]), axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    total = s[-1]
+    s = s[:-1]
+    h = CORNER_WINDOW * total
+    ext = np.vstack([loop2d, loop2d, loop2d[:1]])  # twice around, to look across the seam
+    ext_s = np.concatenate([s, s + total, [2.0 * total]])
+    before = np.stack([np.interp(s - h + total, ext_s, ext[:, c]) for c in range(2)], axis=1)
+    after = np.stack([np.interp(s + h, ext_s, ext[:, c]) for c in range(2)], axis=1)
+    v1, v2 = loop2d - before, after - loop2d
+    return np.abs(np.arctan2(_cross(v1, v2), np.sum(v1 * v2, axis=1)))
+
+
+def _split_at_corners(points3d: FloatArray, owner: np.ndarray, origin: FloatArray, axes: FloatArray,
+                      flipped: dict[int, bool]) -> tuple[list[ClosedSide], str]:
+    """Split a closed loop drawn as one or two strokes at its 3 or 4 sharpest corners (largest turning
+    angles in projection, at least a tenth of the loop apart)."""
+    loop3d = points3d[:-1]  # the last point repeats the first
+    own = owner[:-1]
+    uv = project(loop3d, origin, axes)
+    turn = _turning(uv)
+    cum = cumulative_length(np.vstack([uv, uv[:1]]))[:-1]
+    total = cumulative_length(np.vstack([uv, uv[:1]]))[-1]
+    picked: list[int] = []
+    for idx in np.argsort(-turn, kind="stable"):
+        d = np.abs(cum[idx] - cum[picked])
+        if np.all(np.minimum(d, total - d) >= 0.1 * total):  # (True for the first pick)
+            picked.append(int(idx))
+        if len(picked) == 4:
+            break
+    if len(picked) < 3:
+        raise OpenBoundaryError(
+            f"the boundary drawn as {len(set(own.tolist()))} stroke(s) has fewer than 3 corners; "
+            "draw at least 3 boundary sides")
+    if len(picked) == 4 and turn[picked[3]] < 0.5 * turn[picked[2]]:
+        picked = picked[:3]
+    corners = sorted(picked)
+    sides = []
+    for n, c in enumerate(corners):
+        nxt = corners[(n + 1) % len(corners)]
+        idx = np.arange(c, nxt + 1) if nxt > c else np.concatenate([np.arange(c, len(loop3d)), np.arange(0, nxt + 1)])
+        src = tuple(sorted(set(own[idx].tolist())))
+        sides.append(ClosedSide(loop3d[idx], src, (min(src), n), flipped[min(src)]))
+    angles = ", ".join(f"{np.degrees(turn[c]):.0f}" for c in corners)
+    return sides, f"boundary of {len(set(own.tolist()))} stroke(s) split at {len(corners)} corners (turning {angles} deg)"
+
+
+def _check_simple(sides: Sequence[ClosedSide], origin: FloatArray, axes: FloatArray) -> None:
+    """OpenBoundaryError when the closed loop crosses or touches itself in projection."""
+    loop = np.concatenate([s.points[:-1] for s in sides])
+    owner = np.concatenate([np.full(len(s.points) - 1, min(s.source)) for s in sides])
+    uv = project(loop, origin, axes)
+    step = np.linalg.norm(np.diff(np.vstack([uv, uv[:1]]), axis=0), axis=1)
+    keep = step > 1e-12 * (1.0 + np.abs(uv).max())  # no zero-length segments
+    loop, owner, uv = loop[keep], owner[keep], uv[keep]
+    uv = np.vstack([uv, uv[:1]])
+    n = uv.shape[0] - 1
+    for start in range(0, n, 256):
+        i, j, _, _ = segment_intersections(uv[start:min(start + 257, n + 1)], uv)
+        i = i + start
+        gap = np.abs(i - j)
+        bad = (gap > 1) & (gap < n - 1)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            p = loop[i[k]]
+            raise OpenBoundaryError(
+                f"the closed boundary crosses itself in projection near ({p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g}) "
+                f"(strokes {owner[i[k]]} and {owner[j[k] % n]}); check that the boundary strokes go once "
+                "around the surface, or name the boundary strokes explicitly")
+
+
+def close_loop(strokes: Sequence[FloatArray], names: Sequence[int], plane, tol: Tolerances,
+               diagonal: float) -> tuple[list[ClosedSide], list[str]]:
+    """Order, orient, cut and extend boundary strokes into a closed loop of sides.
+
+    strokes : (n_i, 3) validated boundary strokes; names: their input indices (for messages/source)
+    Returns the sides (>= 3) in loop order, each ending exactly where the next starts, and notes.
+    """
+    if not (np.isfinite(tol.gap_factor) and tol.gap_factor > 0):
+        raise InvalidOptionError(f"Tolerances.gap_factor={tol.gap_factor!r}; give a positive fraction such as 0.25")
+    if not strokes:
+        raise OpenBoundaryError("no boundary strokes; a boundary needs at least 3 sides")
+    origin, axes = plane.origin, plane.axes
+    limit = tol.gap_factor * diagonal
+    for s, name in zip(strokes, names):
+        if not chord_length(project(s, origin, axes)) > 1e-9 * max(diagonal, 1e-300):
+            raise InvalidStrokeError(
+                f"boundary stroke {name} has no length in the projection plane; draw it along the boundary")
+    order, flags = _order_strokes([project(s, origin, axes) for s in strokes])
+    loop = [strokes[i][::-1] if f else strokes[i] for i, f in zip(order, flags)]
+    ids = [names[i] for i in order]
+    k = len(loop)
+    corners = [_close_corner(loop[n], loop[(n + 1) % k], origin, axes, limit, (ids[n], ids[(n + 1) % k]),
+                             same=k == 1) for n in range(k)]
+    notes = [c.note for c in corners]
+    sides = []
+    for n in range(k):
+        before, after = corners[n - 1], corners[n]
+        inner = loop[n][before.keep_from:after.keep_until]
+        pts = np.vstack([before.point, inner, after.point])
+        keep = np.concatenate([[True], np.linalg.norm(np.diff(pts, axis=0), axis=1) > 1e-12 * (1 + diagonal)])
+        keep[-1] = True
+        pts = pts[keep]
+        if np.linalg.norm(pts[-2] - pts[-1]) <= 1e-12 * (1 + diagonal) and len(pts) > 2:
+            pts = np.delete(pts, -2, axis=0)
+        sides.append((pts, ids[n], flags[n]))
+    if k <= 2:
+        pts = np.concatenate([sides[0][0]] + [s[0][1:] for s in sides[1:]])
+        owner = np.concatenate([np.full(len(sides[0][0]), sides[0][1])] +
+                               [np.full(len(s[0]) - 1, s[1]) for s in sides[1:]])
+        if np.linalg.norm(pts[0] - pts[-1]) > 0:
+            pts, owner = np.vstack([pts, pts[:1]]), np.append(owner, owner[0])
+        closed, note = _split_at_corners(pts, owner, origin, axes, dict(zip(ids, flags)))
+        notes.append(note)
+    else:
+        closed = [ClosedSide(p, (name,), (name, 0), f) for p, name, f in sides]
+    _check_simple(closed, origin, axes)
+    return closed, notes

@@ -1,0 +1,167 @@
+"""Strokes: validation, the paper's distance filter, and small polyline helpers.
+
+A stroke is an ordered (n, 3) float array in millimetres (Qin & Wright, section 2: "3D sketch points").
+Nothing here modifies its input in place.
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .errors import DegenerateSketchError, InvalidOptionError, InvalidStrokeError
+from .types import FloatArray
+
+AUTO_FILTER_FRACTION = 0.005
+"""Automatic filter threshold as a fraction of the sketch diagonal (see `auto_filter_threshold`)."""
+
+AUTO_FILTER_STROKE_FRACTION = 0.05
+"""... but never more than this fraction of the median stroke length."""
+
+
+def validate_stroke(points: npt.ArrayLike, index: int) -> FloatArray:
+    """Return a float64 copy of stroke `index` as an (n, 3) array, or raise InvalidStrokeError.
+
+    points : (n, 3) array-like, millimetres, n >= 2, all coordinates finite.
+    index  : the stroke's position in the input, used only in the error message.
+    """
+    try:
+        arr = np.array(points, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InvalidStrokeError(
+            f"stroke {index} is not an array of numbers ({exc}); give an (n, 3) array of x y z in mm"
+        ) from None
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise InvalidStrokeError(
+            f"stroke {index} has shape {arr.shape}; a stroke must be an (n, 3) array of x y z points"
+        )
+    n = arr.shape[0]
+    if n < 2:
+        raise InvalidStrokeError(
+            f"stroke {index} has {n} point{'s' if n != 1 else ''}; a stroke needs at least 2"
+        )
+    bad = ~np.isfinite(arr).all(axis=1)
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise InvalidStrokeError(
+            f"stroke {index} has {int(bad.sum())} point(s) with NaN or infinite coordinates "
+            f"(first at point {first}: {arr[first].tolist()}); remove or repair them"
+        )
+    return arr
+
+
+def chord_length(points: npt.ArrayLike) -> float:
+    """Total chord length of a polyline: the sum of |p[i+1] - p[i]| (the paper's "total chord length")."""
+    pts = np.asarray(points, dtype=float)
+    if pts.shape[0] < 2:
+        return 0.0
+    return float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+
+
+def cumulative_length(points: npt.ArrayLike) -> FloatArray:
+    """Arc length at each point of a polyline: (n,) float starting at 0."""
+    pts = np.asarray(points, dtype=float)
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    return np.concatenate([[0.0], np.cumsum(seg)])
+
+
+def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike) -> FloatArray:
+    """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d)."""
+    pts = np.asarray(points, dtype=float)
+    cum = cumulative_length(pts)
+    s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
+    return np.stack([np.interp(s, cum, pts[:, k]) for k in range(pts.shape[1])], axis=-1)
+
+
+def sketch_diagonal(points: npt.ArrayLike) -> float:
+    """Diagonal of the bounding box of `points` (n, 3) in its own principal axes.
+
+    Unlike an axis-aligned box this does not change when the sketch is rotated, so every
+    tolerance derived from it is invariant under rigid motions and scales with the sketch.
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    if pts.shape[0] < 2:
+        return 0.0
+    centred = pts - pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(centred, full_matrices=False)
+    local = centred @ vt.T
+    return float(np.linalg.norm(local.max(axis=0) - local.min(axis=0)))
+
+
+def filter_stroke(points: npt.ArrayLike, threshold: float) -> FloatArray:
+    """Qin & Wright, section 2: drop sketch points closer than `threshold` (mm, 3D distance)
+    to the last kept point. The first and the last point are always kept; when the last point
+    falls within `threshold` of the last kept interior point, that interior point gives way to it
+    so that no segment is shorter than needed.
+
+    points : (n, 3) float, n >= 1.  Returns a new (m, 3) array, m <= n.
+    """
+    if not np.isfinite(threshold) or threshold < 0:
+        raise InvalidOptionError(
+            f"filter threshold {threshold!r} mm is invalid; give a finite distance >= 0 (or None for automatic)"
+        )
+    pts = np.array(points, dtype=float).reshape(-1, 3)
+    n = pts.shape[0]
+    if n <= 2:
+        return pts
+    keep = [0]
+    last = pts[0]
+    for i in range(1, n - 1):
+        if np.linalg.norm(pts[i] - last) >= threshold:
+            keep.append(i)
+            last = pts[i]
+    if len(keep) > 1 and np.linalg.norm(pts[-1] - last) < threshold:
+        keep.pop()
+    keep.append(n - 1)
+    return pts[keep]
+
+
+def auto_filter_threshold(strokes: Sequence[npt.ArrayLike]) -> float:
+    """The filter threshold chosen from the sketch's size (the paper: "determined by experiments and
+    related to surface size").
+
+    threshold = min(0.5 % of the sketch diagonal, 5 % of the median stroke length).
+
+    Why: 0.5 % of the diagonal keeps at most ~200 points across the sketch, enough to resolve any
+    shape feature larger than ~1 % of the part, while removing the dense clusters a motion-capture
+    system records when the hand slows down (fixed capture rate, varying speed: section 2).  Hand
+    noise of free 3D sketching is typically 0.5-2 % of the sketch size, so nothing real is lost.  The
+    second bound keeps a typical stroke at >= ~20 points when strokes are short compared with the
+    sketch (e.g. many small guide curves), so corners and ends stay well sampled.
+
+    Raises DegenerateSketchError when all points coincide.
+    """
+    arrays = [np.asarray(s, dtype=float).reshape(-1, 3) for s in strokes]
+    arrays = [a for a in arrays if a.shape[0] > 0]
+    if not arrays:
+        raise DegenerateSketchError("the sketch has no points; give at least one stroke with 2 or more points")
+    allpts = np.concatenate(arrays)
+    if not np.isfinite(allpts).all():
+        raise InvalidStrokeError("the sketch has NaN or infinite coordinates; repair the strokes first")
+    diag = sketch_diagonal(allpts)
+    if not diag > 0:
+        raise DegenerateSketchError(
+            f"all {allpts.shape[0]} points of the sketch coincide at {allpts[0].tolist()}; "
+            "there is nothing to build a surface from"
+        )
+    lengths = [chord_length(a) for a in arrays if a.shape[0] >= 2]
+    lengths = [x for x in lengths if x > 0]
+    threshold = AUTO_FILTER_FRACTION * diag
+    if lengths:
+        threshold = min(threshold, AUTO_FILTER_STROKE_FRACTION * float(np.median(lengths)))
+    return float(threshold)
+
+
+def resample_arclength(points: npt.ArrayLike, n: int) -> FloatArray:
+    """n points equally spaced in arc length along a polyline, first and last kept exactly.
+
+    An optional alternative to the paper's midpoint insertion (`boundary.equalise`).
+    """
+    if int(n) != n or n < 2:
+        raise InvalidOptionError(f"cannot resample to {n!r} points; give an integer >= 2")
+    pts = np.asarray(points, dtype=float)
+    total = chord_length(pts)
+    out = point_at_length(pts, np.linspace(0.0, total, int(n)))
+    out[0], out[-1] = pts[0], pts[-1]
+    return out

@@ -1,0 +1,227 @@
+"""The progressive update (Qin & Wright section 3): the paper's examples, the subdivision cases
+(a)-(d), and the network invariants after every stroke, also on random sketches (Hypothesis)."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+from ProgSurf.core.network import OUTER_CURVES, PatchNetwork
+from ProgSurf.core.pipeline import build
+from ProgSurf.core.progressive import add_stroke
+from ProgSurf.core.types import Tolerances
+from ProgSurf.io import read_strokes
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+TOL = Tolerances()
+
+
+def flat_network(w=100.0, h=100.0, n=21, height=None):
+    t = np.linspace(0, 1, n)
+    z = (lambda x, y: 0 * x) if height is None else height
+    side = lambda x, y: np.c_[x, y, z(x, y)]
+    return PatchNetwork(side(w * t, 0 * t), side(w + 0 * t, h * t), side(w * t, h + 0 * t), side(0 * t, h * t))
+
+
+def line(p, q, n=20):
+    return np.linspace(np.asarray(p, float), np.asarray(q, float), n)
+
+
+def seam_gap(net: PatchNetwork) -> float:
+    """Largest distance between the sub-patches of two neighbouring regions along their edge,
+    and between each sub-patch and its side polylines, sampled densely."""
+    worst = 0.0
+    for view in net.regions():
+        p = net.patch(view.id)
+        s = np.linspace(0, 1, 41)
+        sides = ((s, 0 * s), (1 + 0 * s, s), (s, 1 + 0 * s), (0 * s, s))
+        for side, (a, b) in zip(view.sides, sides):
+            worst = max(worst, float(np.abs(p.evaluate(a, b) - side.polyline.evaluate(s)).max()))
+    return worst
+
+
+def distance_to_polyline(q, pts):
+    a, b = pts[:-1], pts[1:]
+    ab = b - a
+    w = np.clip(np.einsum("ij,ij->i", q - a, ab) / np.einsum("ij,ij->i", ab, ab), 0, 1)
+    return float(np.linalg.norm(a + w[:, None] * ab - q, axis=1).min())
+
+
+def stroke_deviation(net: PatchNetwork, record) -> float:
+    """Largest distance of the stroke's (trimmed) points from the network curves made from it:
+    these curves are sub-patch boundaries, so this is the stroke's distance from the surface."""
+    curves = [net.edges()[e].polyline.points for cid in record.curve_ids for e in net.curve_edges(cid)]
+    pts = np.concatenate(curves)
+    return float(np.linalg.norm(record.points[:, None, :] - pts[None], axis=2).min(axis=1).max())
+
+
+def check_invariants(net: PatchNetwork, record=None, snap=None):
+    """Regions tile the unit square without overlap, each is 3- or 4-sided and convex, edges are
+    shared (one region outer, two interior), neighbours agree on their shared boundary, and the
+    stroke just accepted lies on the surface within the snap tolerance."""
+    assert net.check() == []
+    assert seam_gap(net) < 1e-9
+    if record is not None and record.status == "accepted":
+        # The curve's points are the stroke's own, plus ramps where an end or a crossing was
+        # moved onto a node: at most the snap distance, or the offset of a free end from its
+        # footpoint when that end had no room to be extended (it lies over the boundary).
+        bound = snap + max(record.end_offsets_mm, default=0.0)
+        assert stroke_deviation(net, record) <= bound + 1e-9
+
+
+def state(net: PatchNetwork):
+    return (sorted((rid, tuple(net.region_cycle(rid))) for rid in net.region_ids),
+            sorted((k, e.node0, e.node1, e.polyline.points.tobytes()) for k, e in net.edges().items()))
+
+
+# ------------------------------------------------------------------ the paper's examples
+def test_fig9_two_sections_give_two_then_three_patches_through_both_strokes():
+    strokes = read_strokes(EXAMPLES / "fig9_sections.xyz")
+    r = build(strokes, boundary=4)
+    assert [x.status for x in r.records[4:]] == ["accepted", "accepted"]
+    assert len(r.network) == 3
+    assert len(build(strokes[:5], boundary=4).network) == 2
+    for rec in r.records[4:]:
+        assert stroke_deviation(r.network, rec) < 1e-9       # the surface passes through the stroke
+    check_invariants(r.network)
+
+
+def test_fig10_five_sided_open_corner_and_free_stroke_give_two_patches():
+    r = build(read_strokes(EXAMPLES / "fig10_five_sided.xyz"))
+    roles = [x.role for x in r.records]
+    assert roles == ["boundary"] * 5 + ["interior"]
+    rec = r.records[5]
+    assert rec.status == "accepted" and rec.ends == ("footpoint", "footpoint")
+    assert len(r.network) == 2
+    check_invariants(r.network, rec, r.tol.snap_mm)
+
+
+def test_fig11_preimage_line_and_pull_give_four_quads():
+    r = build(read_strokes(EXAMPLES / "fig11_general.xyz"), boundary=4)
+    first, second = r.records[4], r.records[5]
+    assert first.status == second.status == "accepted"
+    assert np.allclose(first.pre_image, [[11 / 24, 0], [11 / 24, 1]], atol=1e-9)
+    assert second.ends == ("footpoint", "footpoint")
+    assert second.pulled_curves == first.curve_ids          # the first stroke is pulled to the second
+    views = r.network.regions()
+    assert len(views) == 4 and not any(v.triangle for v in views)
+    # the crossing node now lies on the second stroke (6 mm above the first one before)
+    crossing = [e for e in r.network.edges().values() if e.curve_id in first.curve_ids]
+    node_xyz = {tuple(np.round(r.network.node_xyz(n), 6)) for e in crossing for n in (e.node0, e.node1)}
+    assert min(distance_to_polyline(np.array(p), second.points) for p in node_xyz) < 1e-6
+    check_invariants(r.network)
+
+
+# ------------------------------------------------------------------ subdivision cases, Fig. 6
+@pytest.mark.parametrize("name, p, q, triangles, quads", [
+    ("a corner to corner", (0, 0, 5), (100, 100, 5), 2, 0),
+    ("b corner to edge", (0, 0, 5), (100, 50, 5), 1, 1),
+    ("c two adjacent edges", (0, 40, 5), (40, 0, 5), 1, 2),
+    ("d two opposite edges", (0, 50, 5), (100, 50, 5), 0, 2),
+])
+def test_subdivision_cases(name, p, q, triangles, quads):
+    net = flat_network()
+    # strokes start 0.5 mm outside the square: the over-sketch is trimmed and the end snapped
+    d = np.subtract(q, p)[:2] / np.linalg.norm(np.subtract(q, p)[:2])
+    pts = line(np.r_[np.asarray(p[:2]) - 0.5 * d, 5.0], np.r_[np.asarray(q[:2]) + 0.5 * d, 5.0])
+    pts[:, 2] = 5 * np.sin(np.linspace(0, np.pi, len(pts)))
+    rec = add_stroke(net, pts, 4, TOL, snap=1.0)
+    assert rec.status == "accepted", rec.reason
+    views = net.regions()
+    assert sum(v.triangle for v in views) == triangles
+    assert sum(not v.triangle for v in views) == quads
+    check_invariants(net, rec, 1.0)
+
+
+def test_triangle_crossed_by_a_stroke_stays_three_or_four_sided():
+    net = flat_network()
+    add_stroke(net, line((0, 0, 0), (100, 100, 0)), 4, TOL, snap=1.0)
+    rec = add_stroke(net, line((60, 0, 3), (100, 30, 3)), 5, TOL, snap=1.0)
+    assert rec.status == "accepted", rec.reason
+    check_invariants(net, rec, 1.0)
+    assert len(net) == 3
+
+
+def test_stroke_crossing_two_earlier_strokes_pulls_both():
+    net = flat_network()
+    for k, x in enumerate((30, 70)):
+        assert add_stroke(net, line((x, 0, 0), (x, 100, 0)), 4 + k, TOL, snap=1.0).status == "accepted"
+    pts = line((0, 50, 0), (100, 50, 0), 41)
+    pts[:, 2] = 4 * np.sin(np.pi * pts[:, 0] / 100)
+    rec = add_stroke(net, pts, 6, TOL, snap=1.0)
+    assert rec.status == "accepted" and len(rec.pulled_curves) == 2
+    assert rec.ends == ("snapped", "snapped")
+    assert len(net) == 6
+    check_invariants(net, rec, 1.0)
+    assert stroke_deviation(net, rec) < 1e-9
+    # later strokes win: the surface passes through the last stroke where they cross
+    assert abs(net.evaluate_uv(np.array([0.3, 0.5]))[2] - 4 * np.sin(0.3 * np.pi)) < 0.02
+
+
+def test_free_ends_are_extended_with_the_offset_distributed_to_zero():
+    net = flat_network()
+    rec = add_stroke(net, line((30, 50, 10), (70, 50, 10)), 4, TOL, snap=1.0)
+    assert rec.status == "accepted" and rec.ends == ("footpoint", "footpoint")
+    assert np.allclose(rec.pre_image, [[0, 0.5], [1, 0.5]], atol=1e-9)
+    mid = net.evaluate_uv(np.array([[0.5, 0.5], [0.15, 0.5], [0.0, 0.5]]))
+    assert abs(mid[0, 2] - 10) < 1e-9
+    assert 4.0 < mid[1, 2] < 6.0          # half way along the extension: half the offset
+    assert abs(mid[2, 2]) < 1e-9          # the outer boundary is not moved
+    check_invariants(net, rec, 1.0)
+
+
+# ------------------------------------------------------------------ rejections leave no trace
+def test_stroke_outside_the_surface_is_rejected_and_changes_nothing():
+    net = flat_network()
+    add_stroke(net, line((0, 50, 0), (100, 50, 3)), 4, TOL, snap=1.0)
+    before = state(net)
+    rec = add_stroke(net, line((120, 10, 0), (160, 90, 0)), 5, TOL, snap=1.0)
+    assert rec.status == "rejected" and "outside the surface" in rec.reason
+    assert state(net) == before
+
+
+def test_stroke_along_an_existing_curve_is_rejected_and_changes_nothing():
+    net = flat_network()
+    add_stroke(net, line((0, 50, 0), (100, 50, 0)), 4, TOL, snap=1.0)
+    before = state(net)
+    rec = add_stroke(net, line((0, 50, 0), (100, 50, 0)), 5, TOL, snap=1.0)
+    assert rec.status == "rejected" and "runs along" in rec.reason
+    assert state(net) == before
+
+
+def test_one_point_stroke_is_rejected_with_a_reason():
+    rec = add_stroke(flat_network(), np.array([[50.0, 50, 0]]), 4, TOL, snap=1.0)
+    assert rec.status == "rejected" and "at least 2" in rec.reason
+
+
+# ------------------------------------------------------------------ random progressive sketches
+@st.composite
+def sketches(draw):
+    w = draw(st.floats(20, 300))
+    h = draw(st.floats(20, 300))
+    a = draw(st.floats(-0.3, 0.3))
+    b = draw(st.floats(-0.3, 0.3))
+    height = lambda x, y: a * w * np.sin(np.pi * x / w) * np.sin(np.pi * y / h) + b * x
+    strokes = draw(st.lists(st.tuples(st.floats(-0.1, 1.1), st.floats(-0.1, 1.1), st.floats(-0.1, 1.1),
+                                      st.floats(-0.1, 1.1), st.floats(-0.2, 0.2), st.integers(2, 30)),
+                            min_size=1, max_size=30))
+    return w, h, height, strokes
+
+
+@given(sketches())
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+def test_random_stroke_sequences_keep_every_invariant(sketch):
+    w, h, height, strokes = sketch
+    net = flat_network(w, h, n=15, height=height)
+    snap = 0.02 * np.hypot(w, h)
+    for k, (u0, v0, u1, v1, dz, n) in enumerate(strokes):
+        t = np.linspace(0, 1, n)
+        x = w * (u0 + t * (u1 - u0))
+        y = h * (v0 + t * (v1 - v0))
+        pts = np.c_[x, y, height(x, y) + dz * w * np.sin(np.pi * t)]
+        before = state(net)
+        rec = add_stroke(net, pts, 4 + k, TOL, snap)      # any non-ProgSurf exception fails here
+        if rec.status == "rejected":
+            assert rec.reason
+            assert state(net) == before
+        check_invariants(net, rec, snap)
