@@ -1,0 +1,16 @@
+"""ProgSurf.cad: the one adapter between the numeric core and OCC (FreeCAD's Part module).
+
+Network polylines -> shared cubic B-spline edge curves (curves, fit); regions -> exact Coons B-spline
+faces (faces); faces -> one sewn shell (shell); STEP/IGES export and fresh-process read-back (export);
+seam gaps, G1 defect, fit and stroke deviations (analysis); a matplotlib picture (render).
+Only this package imports FreeCAD/Part and converts numpy <-> FreeCAD.Vector.
+"""
+from .shell import FaceInfo, ShellResult, SidePiece, build_shell, fit_edges
+from .faces import coons_surface
+from .export import export_iges, export_shape, export_step, read_back, skin_surface, summarize
+from .analysis import (SeamStat, fit_deviation, point_distances, seam_stats, shape_point_distances,
+                       shell_seam_gaps)
+
+__all__ = ["FaceInfo", "ShellResult", "SidePiece", "build_shell", "fit_edges", "coons_surface",
+           "export_iges", "export_shape", "export_step", "read_back", "skin_surface", "summarize", "SeamStat",
+           "fit_deviation", "point_distances", "seam_stats", "shape_point_distances", "shell_seam_gaps"]

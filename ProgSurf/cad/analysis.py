@@ -1,0 +1,177 @@
+"""Quality of the CAD result: seam gaps, G1 defect along seams, fit and stroke deviations.
+
+Qin & Wright section 4 judge the surface by eye; the issue asks for numbers: the largest seam gap
+(watertightness), the angle between the normals of neighbouring faces along each seam (the G1 defect
+of the G0 Coons network, degrees), how far each face lies from its Coons sub-patch (Eq. 1 on the
+network polylines) and how far each accepted stroke lies from the surface.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.types import FloatArray
+from ._occ import Part, Vector
+
+SIDE_UV = (lambda w: (w, 0.0), lambda w: (1.0, w), lambda w: (w, 1.0), lambda w: (0.0, w))
+"""(s, r) of side parameter w on sides bottom, right, top, left of a face's parameter square."""
+
+
+@dataclass(frozen=True)
+class SeamStat:
+    """One interior network edge: the faces of regions (region_a, region_b) meet along it.
+
+    gap_max_mm      : largest |S_a - S_b| at matching points of the shared edge
+    angle_max_deg, angle_median_deg : angle between the unit normals of the two faces (G1 defect)
+    """
+
+    edge_id: int
+    region_a: int
+    region_b: int
+    gap_max_mm: float
+    angle_max_deg: float
+    angle_median_deg: float
+
+
+def _edge_uses(result) -> dict:
+    """edge_id -> [(FaceInfo, side index, SidePiece)] over all faces."""
+    uses: dict = {}
+    for info in result.faces:
+        for k, pieces in enumerate(info.sides):
+            for p in pieces:
+                uses.setdefault(p.edge_id, []).append((info, k, p))
+    return uses
+
+
+def _side_point(info, side: int, piece, t: float) -> tuple[float, float]:
+    w = piece.a + ((1.0 - t) if piece.reversed else t) * (piece.b - piece.a)
+    return SIDE_UV[side](w)
+
+
+def _unit_normal(surface, s: float, r: float) -> FloatArray | None:
+    """Unit normal S_s x S_r / |.|, None where degenerate (the apex of a 3-sided face)."""
+    du = np.array(tuple(surface.getDN(s, r, 1, 0)))
+    dv = np.array(tuple(surface.getDN(s, r, 0, 1)))
+    n = np.cross(du, dv)
+    length = float(np.linalg.norm(n))
+    scale = float(np.linalg.norm(du) * np.linalg.norm(dv))
+    return None if length <= 1e-6 * max(scale, 1e-300) else n / length
+
+
+def seam_stats(result, samples: int = 64) -> list[SeamStat]:
+    """Gap and normal angle along every edge shared by two faces, sampled at `samples` points."""
+    out = []
+    t = np.linspace(0.0, 1.0, samples)
+    for eid, uses in sorted(_edge_uses(result).items()):
+        if len(uses) != 2:
+            continue
+        (fa, ka, pa), (fb, kb, pb) = uses
+        gaps, angles = [], []
+        for x in t:
+            sa, ra = _side_point(fa, ka, pa, x)
+            sb, rb = _side_point(fb, kb, pb, x)
+            qa = np.array(tuple(fa.surface.value(sa, ra)))
+            qb = np.array(tuple(fb.surface.value(sb, rb)))
+            gaps.append(float(np.linalg.norm(qa - qb)))
+            na, nb = _unit_normal(fa.surface, sa, ra), _unit_normal(fb.surface, sb, rb)
+            if na is not None and nb is not None:
+                angles.append(float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0)))))
+        out.append(SeamStat(eid, fa.region_id, fb.region_id, max(gaps),
+                            max(angles, default=0.0), float(np.median(angles)) if angles else 0.0))
+    return out
+
+
+def fit_deviation(result, network, n: int = 21) -> dict:
+    """region_id -> largest |face(s,r) - Coons sub-patch(s,r)| on an n x n grid of [0,1]^2."""
+    g = np.linspace(0.0, 1.0, n)
+    ss, rr = np.meshgrid(g, g, indexing="ij")
+    out = {}
+    for info in result.faces:
+        ref = np.asarray(network.evaluate_region(info.region_id, ss, rr), dtype=float)
+        got = np.array([[tuple(info.surface.value(float(a), float(b))) for a, b in zip(ra, rb)]
+                        for ra, rb in zip(ss, rr)])
+        out[info.region_id] = float(np.linalg.norm(got - ref, axis=-1).max())
+    return out
+
+
+def _grid(surface, bounds, n: int) -> tuple[FloatArray, FloatArray]:
+    u0, u1, v0, v1 = bounds
+    uu, vv = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
+    uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
+    return uv, np.array([tuple(surface.value(float(u), float(v))) for u, v in uv])
+
+
+def _project(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 12) -> float:
+    """Distance from p to the surface patch over `bounds`: Gauss-Newton from uv, clamped to bounds."""
+    u0, u1, v0, v1 = bounds
+    u, v = float(uv[0]), float(uv[1])
+    best = np.inf
+    for _ in range(iterations):
+        q = np.array(tuple(surface.value(u, v)))
+        r = p - q
+        best = min(best, float(np.linalg.norm(r)))
+        su = np.array(tuple(surface.getDN(u, v, 1, 0)))
+        sv = np.array(tuple(surface.getDN(u, v, 0, 1)))
+        jac = np.stack([su, sv], axis=1)
+        step = np.linalg.lstsq(jac, r, rcond=None)[0]
+        nu, nv = min(max(u + step[0], u0), u1), min(max(v + step[1], v0), v1)
+        if abs(nu - u) + abs(nv - v) < 1e-13:
+            break
+        u, v = nu, nv
+    return min(best, float(np.linalg.norm(p - np.array(tuple(surface.value(u, v))))))
+
+
+def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: int = 3) -> FloatArray:
+    """(m,) distance from each point (m, 3) to the union of surface patches [(surface, (u0,u1,v0,v1))]:
+    nearest samples of a grid on each patch, then a clamped Gauss-Newton projection on the
+    `candidates` nearest patches (OCC's Extrema is ~50 ms a point on a heavy B-spline face)."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    grids = [_grid(surf, bounds, grid) for surf, bounds in patches]
+    out = np.empty(len(pts))
+    for i, p in enumerate(pts):
+        near = [(float(np.min(np.linalg.norm(xyz - p, axis=1))), k) for k, (_, xyz) in enumerate(grids)]
+        best = np.inf
+        for _, k in sorted(near)[:candidates]:
+            uv, xyz = grids[k]
+            j = int(np.argmin(np.linalg.norm(xyz - p, axis=1)))
+            best = min(best, _project(patches[k][0], patches[k][1], p, uv[j]))
+        out[i] = best
+    return out
+
+
+def point_distances(result, points: FloatArray) -> FloatArray:
+    """(m,) distance from each point to the faces of a ShellResult (each face spans [0,1]^2)."""
+    return surface_distances([(f.surface, (0.0, 1.0, 0.0, 1.0)) for f in result.faces], points)
+
+
+def shape_point_distances(shape, points: FloatArray) -> FloatArray:
+    """(m,) distance from each point to the faces of any shape whose faces span their whole
+    surfaces (as ours do, also after STEP/IGES read-back)."""
+    return surface_distances([(f.Surface, tuple(f.ParameterRange)) for f in shape.Faces], points)
+
+
+def shell_seam_gaps(shape, samples: int = 32) -> dict:
+    """Watertightness of any shell (e.g. one read back from STEP/IGES): for every edge shared by two
+    faces, the largest distance between the two faces' surfaces evaluated through the edge's two
+    pcurves (what OCC itself uses), and the count of free (one-face) edges.
+    Returns {'shared_edges', 'free_edges', 'seam_gap_max_mm'}."""
+    shared = free = 0
+    gap = 0.0
+    for edge in shape.Edges:
+        nfaces = len(shape.ancestorsOfType(edge, Part.Face))
+        if nfaces == 1:
+            free += 1
+        if nfaces != 2:
+            continue
+        shared += 1
+        reps = [edge.curveOnSurface(i) for i in range(2)]
+        if any(rep is None for rep in reps):
+            continue
+        t = np.linspace(edge.FirstParameter, edge.LastParameter, samples)
+        pts = []
+        for c2d, surface, placement, _, _ in reps:
+            uv = [c2d.value(float(x)) for x in t]
+            pts.append(np.array([tuple(placement.multVec(surface.value(p.x, p.y))) for p in uv]))
+        gap = max(gap, float(np.linalg.norm(pts[0] - pts[1], axis=1).max()))
+    return {"shared_edges": shared, "free_edges": free, "seam_gap_max_mm": gap}

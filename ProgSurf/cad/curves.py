@@ -1,0 +1,197 @@
+"""Shared edge curves: network polylines -> cubic OCC B-spline curves, fitted once.
+
+Qin & Wright, section 3.3: "the resulting sub-patches become B-spline faces fitted with OCC". Every
+edge of the pre-image network (EdgeView) becomes one cubic B-spline on [0, 1] whose parameter is the
+polyline's pre-image parameter, so that C(t) ~ polyline(t). A side of a region is a chain of such edges;
+:func:`join_side` concatenates them into one B-spline (C0 knots of full multiplicity at the junctions),
+reparametrised so the side parameter equals the side polyline's parameter.
+
+This module and its siblings in ProgSurf.cad are the only code converting numpy <-> FreeCAD.Vector.
+"""
+from __future__ import annotations
+
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from ..core.errors import FitError
+from ..core.types import FloatArray, Polyline
+from ._occ import Part, Vector
+from .fit import DEGREE, fit_cubic
+
+
+
+def to_vectors(points: FloatArray) -> list:
+    """(n, 3) float -> list of FreeCAD.Vector."""
+    return [Vector(*map(float, p)) for p in np.asarray(points, dtype=float).reshape(-1, 3)]
+
+
+def to_array(vectors: Iterable) -> FloatArray:
+    """FreeCAD.Vector, or (nested) sequences of them -> float array (..., 3)."""
+    def conv(x):
+        return [x.x, x.y, x.z] if hasattr(x, "x") else [conv(y) for y in x]
+    return np.array(conv(vectors if hasattr(vectors, "x") else list(vectors)), dtype=float)
+
+
+def curve_points(curve, t: FloatArray) -> FloatArray:
+    """Evaluate a Part curve at parameters t (m,) -> (m, 3)."""
+    return np.array([tuple(curve.value(float(x))) for x in np.ravel(t)], dtype=float)
+
+
+def line_curve(p0: FloatArray, p1: FloatArray):
+    """A straight segment p0 -> p1 on [0, 1] as a cubic B-spline (degree 1 elevated to 3)."""
+    c = Part.BSplineCurve()
+    c.buildFromPolesMultsKnots(to_vectors(np.array([p0, p1])), [2, 2], [0.0, 1.0], False, 1)
+    c.increaseDegree(DEGREE)
+    return c
+
+
+def constant_curve(point: FloatArray):
+    """A degenerate side (the collapsed top of a 3-sided region): a cubic Bezier with 4 equal poles."""
+    c = Part.BSplineCurve()
+    c.buildFromPolesMultsKnots(to_vectors(np.repeat(np.reshape(point, (1, 3)), 4, axis=0)),
+                               [4, 4], [0.0, 1.0], False, DEGREE)
+    return c
+
+
+def bspline(knots: FloatArray, poles: FloatArray, degree: int = DEGREE):
+    """A Part.BSplineCurve from a full clamped knot vector and poles (n, 3)."""
+    values, mults = np.unique(np.round(np.asarray(knots, dtype=float), 14), return_counts=True)
+    c = Part.BSplineCurve()
+    c.buildFromPolesMultsKnots(to_vectors(poles), [int(m) for m in mults], [float(v) for v in values],
+                               False, degree)
+    return c
+
+
+def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
+               name: str = "curve"):
+    """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
+    at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
+    included). Two points (or all coincident) give a straight segment.
+    Raises FitError when no cubic B-spline within tol_mm is found."""
+    prm = np.asarray(params, dtype=float)
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    fixed = dict(fixed or {})
+    fixed.setdefault(0.0, pts[0])
+    fixed.setdefault(1.0, pts[-1])
+    if len(pts) < 2:
+        raise FitError(f"{name} has {len(pts)} point; a curve needs at least 2")
+    ft = np.array(sorted(fixed))
+    fp = np.array([fixed[k] for k in ft], dtype=float)
+    if (len(pts) == 2 and len(ft) == 2) or np.ptp(np.vstack([pts, fp]), axis=0).max() <= 1e-12:
+        return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
+    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name)
+    return bspline(knots, poles)
+
+
+def fit_polyline(polyline: Polyline, tol_mm: float, start: FloatArray | None = None,
+                 end: FloatArray | None = None, name: str = "edge"):
+    """fit_points for one polyline, with optional exact end points."""
+    fixed = {}
+    if start is not None:
+        fixed[0.0] = np.asarray(start, dtype=float)
+    if end is not None:
+        fixed[1.0] = np.asarray(end, dtype=float)
+    return fit_points(polyline.params, polyline.points, tol_mm, fixed, name)
+
+
+def unit_segment(curve, a: float, b: float):
+    """The piece of `curve` over [a, b], as a new B-spline re-parametrised to [0, 1]."""
+    c = curve.copy()
+    if a > 0.0 or b < 1.0:
+        c.segment(a, b)
+    ks, ms = _knots_mults(c)
+    k0, k1 = ks[0], ks[-1]
+    out = Part.BSplineCurve()
+    out.buildFromPolesMultsKnots(c.getPoles(), ms, [(k - k0) / (k1 - k0) for k in ks], False, c.Degree)
+    return out
+
+
+def curve_deviation(curve, polyline: Polyline) -> float:
+    """Largest distance |C(t_i) - p_i| at the polyline's vertices (what the fit controls; between
+    vertices the smooth curve may differ from the chords by the polyline's own sag)."""
+    prm = np.asarray(polyline.params, dtype=float)
+    return float(np.linalg.norm(curve_points(curve, prm) - polyline.points, axis=1).max())
+
+
+def _knots_mults(curve) -> tuple[list, list]:
+    return [float(k) for k in curve.getKnots()], [int(m) for m in curve.getMultiplicities()]
+
+
+def join_side(curves: Sequence, reversed_flags: Sequence[bool], breaks: Sequence[float]):
+    """Join the edge curves of one region side into one cubic B-spline on [0, 1].
+
+    curves        : Part.BSplineCurve on [0,1] each (cubic), in traversal order
+    reversed_flags: True where the edge runs against the side
+    breaks        : (k+1,) side parameters of the junctions, 0 = breaks[0] < ... < breaks[k] = 1;
+                    edge i covers [breaks[i], breaks[i+1]] of the side polyline's parameter.
+    The junction poles are taken from the first curve; the curves must meet there (shared nodes).
+    """
+    poles: list = []
+    knots: list = []
+    mults: list = []
+    for i, (curve, rev) in enumerate(zip(curves, reversed_flags)):
+        c = curve.copy()
+        if c.Degree < DEGREE:
+            c.increaseDegree(DEGREE)
+        if rev:
+            c.reverse()
+        ks, ms = _knots_mults(c)
+        k0, k1 = ks[0], ks[-1]
+        a, b = float(breaks[i]), float(breaks[i + 1])
+        mapped = [a + (k - k0) * (b - a) / (k1 - k0) for k in ks]
+        p = list(c.getPoles())
+        if i == 0:
+            poles.extend(p)
+            knots.extend(mapped)
+            mults.extend(ms)
+        else:
+            poles.extend(p[1:])
+            mults[-1] = DEGREE  # C0 junction: interior knot of multiplicity = degree
+            knots.extend(mapped[1:])
+            mults.extend(ms[1:])
+    knots[0], knots[-1] = 0.0, 1.0
+    side = Part.BSplineCurve()
+    side.buildFromPolesMultsKnots(poles, mults, knots, False, DEGREE)
+    _smooth_junctions(side, [float(b) for b in breaks[1:-1]])
+    return side
+
+
+def _smooth_junctions(curve, junctions: Sequence[float], tol: float = 1e-9) -> None:
+    """Lower the C0 junction knots of a joined side as far as the geometry allows (to within tol mm):
+    pieces of one smoothly fitted curve re-join C2, which BRepCheck/BOP checks require (no C0 faces)."""
+    for u in junctions:
+        for m in range(0, DEGREE):
+            ks = [float(k) for k in curve.getKnots()]
+            idx = next((i for i, k in enumerate(ks) if abs(k - u) <= 1e-12), None)
+            if idx is None or curve.removeKnot(idx + 1, m, tol):
+                break
+
+
+def make_compatible(curves: Sequence) -> list:
+    """Copies of the curves with one common degree and knot vector (degree elevation, then knot
+    insertion up to the largest multiplicity of each knot); geometry unchanged.
+    All curves must share the parameter range [0, 1]."""
+    out = [c.copy() for c in curves]
+    degree = max(c.Degree for c in out)
+    for c in out:
+        if c.Degree < degree:
+            c.increaseDegree(degree)
+    merged: dict = {}
+    for c in out:
+        for k, m in zip(*_knots_mults(c)):
+            key = next((q for q in merged if abs(q - k) <= 1e-10), k)
+            merged[key] = max(merged.get(key, 0), m)
+    for c in out:
+        ks, ms = _knots_mults(c)
+        todo = []
+        for k, m in merged.items():
+            if not 0.0 < k < 1.0:
+                continue
+            have = next((mm for kk, mm in zip(ks, ms) if abs(kk - k) <= 1e-10), 0)
+            if m > have:
+                todo.append((k, m - have))
+        if todo:
+            todo.sort()
+            c.insertKnots([k for k, _ in todo], [m for _, m in todo], 1e-10, True)
+    return out

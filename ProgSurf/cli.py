@@ -1,0 +1,207 @@
+"""The headless command line (issue 5):
+
+    /usr/bin/python3 -m ProgSurf build STROKE_FILE... -o OUT.step [--iges OUT.igs] [--fcstd OUT.FCStd]
+        [--png OUT.png] [--report OUT.json] [--boundary-count N] [--filter MM] [--snap MM]
+        [--fit-tol MM] [--skin] [--continuity G0]
+
+Strokes are taken in file order, then in the order the files are given. Exit 0 on success, 2 on bad
+input (one line on stderr, no traceback), 1 when OCC fails on valid input.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from typing import Optional, Sequence
+
+from .core.errors import FitError, ProgSurfError
+from .core.types import Tolerances
+
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python3 -m ProgSurf",
+                                description="Progressive freeform surfaces from 3D sketch strokes "
+                                            "(Qin & Wright), written as STEP/IGES.")
+    sub = p.add_subparsers(dest="command", required=True)
+    b = sub.add_parser("build", help="build a surface from stroke files and export it")
+    b.add_argument("inputs", nargs="+", metavar="STROKE_FILE", help=".xyz/.txt/.csv/.asc point lists or .c3d")
+    b.add_argument("-o", "--output", required=True, metavar="OUT.step", help="STEP AP214 file to write")
+    b.add_argument("--iges", metavar="OUT.igs", help="also write IGES (BRep mode)")
+    b.add_argument("--fcstd", metavar="OUT.FCStd", help="also write a FreeCAD document with strokes and surface")
+    b.add_argument("--png", metavar="OUT.png", help="also write a rendered picture")
+    b.add_argument("--report", metavar="OUT.json", help="also write the JSON report")
+    b.add_argument("--boundary-count", type=int, metavar="N",
+                   help="the first N strokes are the boundary (default: classify automatically)")
+    b.add_argument("--filter", type=float, metavar="MM", help="stroke filter distance (default: automatic)")
+    b.add_argument("--snap", type=float, metavar="MM", help="snap distance of stroke ends (default: automatic)")
+    b.add_argument("--fit-tol", type=float, default=Tolerances().fit_mm, metavar="MM",
+                   help="largest distance of a B-spline face from its Coons sub-patch (default %(default)s)")
+    b.add_argument("--skin", action="store_true",
+                   help="also write OUT_skin.step: one B-spline surface skinned across all patches")
+    b.add_argument("--continuity", choices=["G0"], default="G0", help="continuity across seams (G0 only, for now)")
+    b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
+    return p
+
+
+def _check_args(args) -> Tolerances:
+    for name in ("filter", "snap", "fit_tol"):
+        value = getattr(args, name)
+        if value is not None and not value > 0:
+            raise ProgSurfError(f"--{name.replace('_', '-')} {value} must be a positive distance in mm")
+    if args.boundary_count is not None and args.boundary_count < 3:
+        raise ProgSurfError(f"--boundary-count {args.boundary_count}: a boundary needs at least 3 strokes")
+    for out in filter(None, (args.output, args.iges, args.fcstd, args.png, args.report)):
+        folder = os.path.dirname(os.path.abspath(out))
+        if not os.path.isdir(folder):
+            raise ProgSurfError(f"cannot write {out!r}: folder {folder!r} does not exist")
+    return Tolerances(filter_mm=args.filter, snap_mm=args.snap, fit_mm=args.fit_tol)
+
+
+def _read(paths: Sequence[str]) -> list:
+    from .io import read_strokes
+
+    strokes = []
+    for path in paths:
+        strokes.extend(read_strokes(path))
+    return strokes
+
+
+def _write_fcstd(path: str, strokes: list, build_result, shape, boundary_count: Optional[int]) -> None:
+    """A document with the strokes (ProgSurf.app stroke objects) and the surface (ProgSurf.app
+    surface object, recomputed by the app layer), plus the exported shell as a plain Part::Feature."""
+    import FreeCAD
+
+    from .app import make
+
+    doc = FreeCAD.newDocument("ProgSurf")
+    try:
+        objs = [make.make_stroke_from_points(p, name=f"Stroke{i:03d}", doc=doc, recompute=False)
+                for i, p in enumerate(strokes)]
+        tol = build_result.tol
+        kwargs = dict(filter_mm=tol.filter_mm, snap_mm=tol.snap_mm, fit_mm=tol.fit_mm, recompute=False)
+        if boundary_count is None:
+            surface = make.make_surface(all_strokes=objs, **kwargs)
+        else:
+            surface = make.make_surface(boundary=objs[:boundary_count], interior=objs[boundary_count:], **kwargs)
+        shell = doc.addObject("Part::Feature", "ExportedShell")
+        shell.Shape = shape
+        doc.recompute()
+        if not surface.isValid():
+            raise ProgSurfError(f"the document's surface object did not recompute: {surface.State}")
+        doc.saveAs(os.path.abspath(path))
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
+def run_build(args, out=sys.stdout) -> dict:
+    """Everything `build` does; returns the report dict. Raises ProgSurfError on bad input."""
+    tol = _check_args(args)
+    timings: dict = {}
+    clock = time.perf_counter()
+    strokes = _read(args.inputs)
+    timings["read"] = time.perf_counter() - clock
+
+    from .core.pipeline import build
+
+    result = build(strokes, boundary=args.boundary_count, tol=tol)
+    timings.update(result.timings_s)
+
+    from . import cad
+    from .cad import analysis
+    from .io.report import make_report, write_report
+
+    clock = time.perf_counter()
+    shell = cad.build_shell(result.network, result.tol)
+    timings["fit"] = time.perf_counter() - clock
+    shape = shell.shape
+    if len(shape.Shells) != 1 or not shape.isValid():
+        raise FitError(f"OCC made {len(shape.Shells)} shells (valid={shape.isValid()}) instead of one valid "
+                       "shell; report this sketch")
+
+    clock = time.perf_counter()
+    seams = analysis.seam_stats(shell)
+    fit_dev = analysis.fit_deviation(shell, result.network)
+    stroke_dev = {r.index: float(analysis.point_distances(shell, r.points).max())
+                  for r in result.accepted if r.points is not None and len(r.points)}
+    shell_info = analysis.shell_seam_gaps(shape)
+    shell_info.update({"valid": bool(shape.isValid()), "area_mm2": float(shape.Area)})
+    timings["analysis"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    outputs = {"step": args.output}
+    cad.export_step(shape, args.output)
+    if args.iges:
+        cad.export_iges(shape, args.iges)
+        outputs["iges"] = args.iges
+    extra = {}
+    if args.skin:
+        skin = cad.skin_surface(result.network)
+        skin_path = os.path.splitext(args.output)[0] + "_skin.step"
+        cad.export_step(skin.toShape(), skin_path)
+        outputs["skin_step"] = skin_path
+        extra["skin"] = {"u_poles": skin.NbUPoles, "v_poles": skin.NbVPoles,
+                         "deviation_max_mm": cad.export.skin_deviation(skin, result.network)}
+    timings["export"] = time.perf_counter() - clock
+    if args.png:
+        clock = time.perf_counter()
+        from .cad.render import render_png
+
+        render_png(shape, args.png, strokes, [r.status == "rejected" for r in result.records],
+                   title=f"{len(shape.Faces)} faces, {len(result.accepted)}/{len(result.records)} strokes")
+        outputs["png"] = args.png
+        timings["png"] = time.perf_counter() - clock
+    if args.fcstd:
+        clock = time.perf_counter()
+        _write_fcstd(args.fcstd, strokes, result, shape, args.boundary_count)
+        outputs["fcstd"] = args.fcstd
+        timings["fcstd"] = time.perf_counter() - clock
+
+    report = make_report(
+        faces=len(shape.Faces), records=result.records,
+        seams=[{"edge": s.edge_id, "regions": [s.region_a, s.region_b], "gap_max_mm": s.gap_max_mm,
+                "angle_max_deg": s.angle_max_deg, "angle_median_deg": s.angle_median_deg} for s in seams],
+        stroke_deviation_mm=stroke_dev, fit_deviation_mm=fit_dev,
+        poles_per_face=[{"region": f.region_id, "u_poles": f.poles[0], "v_poles": f.poles[1],
+                         "u_degree": f.poles[2], "v_degree": f.poles[3], "triangle": f.triangle}
+                        for f in shell.faces],
+        timings_s=timings, inputs=list(args.inputs), outputs=outputs,
+        tolerances={"filter_mm": result.tol.filter_mm, "snap_mm": result.tol.snap_mm,
+                    "fit_mm": result.tol.fit_mm},
+        shell=shell_info, extra=dict(extra, continuity=args.continuity))
+    if args.report:
+        write_report(report, args.report)
+    if not args.quiet:
+        out.write(summary(report) + "\n")
+    return report
+
+
+def summary(report: dict) -> str:
+    """A short human summary of a report."""
+    strokes = report["strokes"]
+    acc = sum(s["status"] == "accepted" for s in strokes)
+    lines = [f"{report['faces']} faces in one shell; strokes: {acc} accepted, {len(strokes) - acc} rejected",
+             f"seam gap max {report['seam_gap_max_mm']:.2e} mm; seam normal angle max "
+             f"{report['seam_angle_max_deg']:.2f} deg (median {report['seam_angle_median_deg']:.2f})",
+             f"fit deviation max {report['fit_deviation_max_mm']:.4f} mm; stroke deviation max "
+             f"{report['stroke_deviation_max_mm']:.4f} mm",
+             f"poles per face max {max((p['u_poles'] * p['v_poles'] for p in report['poles_per_face']), default=0)}"]
+    lines += [f"  stroke {s['index']} ({s['role']}) rejected: {s['reason']}" for s in strokes
+              if s["status"] == "rejected"]
+    lines.append("wrote " + ", ".join(report["outputs"].values()))
+    return "\n".join(lines)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        run_build(args)
+    except ProgSurfError as exc:
+        sys.stderr.write(f"progsurf: error: {' '.join(str(exc).split())}\n")
+        return EXIT_FAILED if isinstance(exc, FitError) else EXIT_BAD_INPUT
+    except OSError as exc:
+        sys.stderr.write(f"progsurf: error: {exc.strerror or exc}: {exc.filename or ''}\n")
+        return EXIT_BAD_INPUT
+    return EXIT_OK

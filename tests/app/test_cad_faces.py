@@ -1,0 +1,95 @@
+"""ProgSurf.cad curves/faces: the exact B-spline Coons surface and the constrained edge fit."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ProgSurf.cad import curves, faces
+from ProgSurf.cad.fit import basis_matrix, fit_cubic
+from ProgSurf.core.coons import coons_patch
+from ProgSurf.core.errors import FitError
+from ProgSurf.core.types import Polyline
+
+T = np.linspace(0.0, 1.0, 61)
+
+
+def _poly(f) -> Polyline:
+    return Polyline(np.array([f(x) for x in T]), T)
+
+
+def _as_callable(curve):
+    return lambda x: curves.curve_points(curve, np.asarray(x)).reshape(np.shape(x) + (3,))
+
+
+SIDES = {  # bottom c0->c1, right c1->c2, top c3->c2, left c0->c3 of a saddle-like patch
+    "bottom": lambda x: [100 * x, 10 * np.sin(np.pi * x), 0.0],
+    "right": lambda x: [100.0, 80 * x, 5 * np.sin(2 * np.pi * x)],
+    "top": lambda x: [100 * x, 80.0, 20 * np.sin(np.pi * x)],
+    "left": lambda x: [0.0, 80 * x, 0.0],
+}
+
+
+def test_coons_surface_is_the_coons_patch_of_its_sides():
+    """The B-spline surface equals Eq. (1) evaluated on the same four B-spline sides (to round-off)."""
+    sides = [curves.fit_polyline(_poly(SIDES[k]), 0.002) for k in ("bottom", "right", "top", "left")]
+    surface = faces.coons_surface(*sides)
+    patch = coons_patch(*[_as_callable(c) for c in sides])
+    g = np.linspace(0.0, 1.0, 17)
+    got = np.array([[tuple(surface.value(a, b)) for b in g] for a in g])
+    assert np.abs(got - patch.grid(g, g)).max() < 1e-9
+    assert surface.UDegree == 3 and surface.VDegree == 3
+
+
+def test_coons_surface_of_two_point_sides_matches_the_core_patch():
+    """Straight 2-point sides (degree 1 elevated to 3; GeomFill would refuse < 4 poles) against
+    the numpy core's Eq. (1) on the same 2-point polylines (an independent evaluator)."""
+    c = np.array([[0, 0, 0], [10, 0, 2], [12, 9, 5], [-1, 8, 1]], dtype=float)
+    b, r, t, l = (curves.line_curve(p, q) for p, q in ((c[0], c[1]), (c[1], c[2]), (c[3], c[2]), (c[0], c[3])))
+    surface = faces.coons_surface(b, r, t, l)
+    patch = coons_patch(c[[0, 1]], c[[1, 2]], c[[3, 2]], c[[0, 3]])
+    for s, v in [(0.3, 0.7), (0.5, 0.5), (0.9, 0.1), (0.0, 0.4), (1.0, 1.0)]:
+        assert np.allclose(tuple(surface.value(s, v)), patch.evaluate(s, v), atol=1e-12)
+
+
+def test_degenerate_side_gives_a_valid_face():
+    """A 3-sided patch: the top side collapsed to the apex point."""
+    apex = np.array([50.0, 80.0, 10.0])
+    b = curves.fit_polyline(_poly(SIDES["bottom"]), 0.002)
+    r = curves.line_curve([100.0, 0.0, 0.0], apex)
+    l = curves.line_curve([0.0, 0.0, 0.0], apex)
+    surface = faces.coons_surface(b, r, curves.constant_curve(apex), l)
+    assert np.allclose(tuple(surface.value(0.3, 1.0)), apex, atol=1e-12)
+    assert surface.toShape().isValid()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_fit_passes_exactly_through_nodes_and_within_tol_of_the_polyline(seed):
+    rng = np.random.default_rng(seed)
+    t = np.sort(np.concatenate([[0.0, 1.0], rng.random(80)]))
+    pts = np.stack([100 * t, 10 * np.sin(3 * np.pi * t), 3 * np.cos(2 * np.pi * t)], axis=1)
+    fixed_t = np.array([0.0, t[20], t[55], 1.0])
+    fixed_p = pts[[0, 20, 55, -1]] + 0.001
+    knots, poles = fit_cubic(t, pts, fixed_t, fixed_p, tol=0.003)
+    assert np.abs(basis_matrix(knots, fixed_t) @ poles - fixed_p).max() < 1e-9
+    dense = np.linspace(0, 1, 2001)
+    poly = np.stack([np.interp(dense, t, pts[:, k]) for k in range(3)], axis=1)
+    # between the sample points too (the tolerance is checked at vertices, midpoints and spans)
+    assert np.linalg.norm(basis_matrix(knots, dense) @ poles - poly, axis=1).max() < 0.0045
+    assert np.allclose(basis_matrix(knots, dense).sum(axis=1), 1.0)
+
+
+def test_fit_that_cannot_reach_the_tolerance_raises_fit_error():
+    t = np.array([0.0, 0.5, 0.5 + 1e-12, 1.0])  # a jump: no continuous curve can follow it
+    pts = np.array([[0, 0, 0], [1, 0, 0], [1, 5, 0], [2, 5, 0]], dtype=float)
+    with pytest.raises(FitError, match="fit-tol"):
+        fit_cubic(t, pts, np.array([0.0, 1.0]), pts[[0, -1]], tol=1e-4, max_rounds=8)
+
+
+def test_join_side_is_smooth_where_pieces_of_one_curve_meet():
+    whole = curves.fit_polyline(_poly(SIDES["bottom"]), 0.002)
+    a = curves.unit_segment(whole, 0.0, 0.4)
+    b = curves.unit_segment(whole, 0.4, 1.0)
+    side = curves.join_side([a, b], [False, False], [0.0, 0.4, 1.0])
+    x = np.linspace(0, 1, 50)
+    assert np.abs(curves.curve_points(side, x) - curves.curve_points(whole, x)).max() < 1e-9
+    assert side.Continuity != "C0"

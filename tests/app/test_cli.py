@@ -1,0 +1,99 @@
+"""The headless command line, run as a user would: /usr/bin/python3 -m ProgSurf build ..."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PYTHON = "/usr/bin/python3"
+EXAMPLE = ROOT / "examples" / "fig9_sections.xyz"
+
+
+def run(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+    env = dict(os.environ, HOME=os.environ.get("HOME", "/tmp"))
+    env.pop("PYTHONPATH", None)   # the command must find FreeCAD and ProgSurf by itself
+    return subprocess.run([PYTHON, "-m", "ProgSurf", *args], cwd=cwd, capture_output=True, text=True,
+                          timeout=600, env=env)
+
+
+@pytest.fixture(scope="module")
+def success(tmp_path_factory):
+    if not EXAMPLE.exists():
+        pytest.skip(f"{EXAMPLE.name} not written yet")
+    tmp = tmp_path_factory.mktemp("cli")
+    out = {k: tmp / f"out.{k}" for k in ("step", "igs", "json", "png")}
+    proc = run("build", str(EXAMPLE), "-o", str(out["step"]), "--iges", str(out["igs"]),
+               "--report", str(out["json"]), "--png", str(out["png"]))
+    return proc, out
+
+
+def test_build_writes_step_iges_png_and_report(success):
+    proc, out = success
+    assert proc.returncode == 0, proc.stderr
+    report = json.loads(out["json"].read_text())
+    from ProgSurf import cad
+
+    back = cad.read_back(out["step"])
+    assert back["faces"] == report["faces"] > 0 and back["shells"] == 1 and back["valid"]
+    assert cad.read_back(out["igs"])["faces"] == report["faces"]
+    assert out["png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert report["seam_gap_max_mm"] <= 1e-7
+    assert report["fit_deviation_max_mm"] <= report["tolerances"]["fit_mm"]
+    assert {"read", "boundary", "base", "fit", "export"} <= set(report["timings_s"])
+    assert len(report["poles_per_face"]) == report["faces"]
+    strokes = report["strokes"]
+    assert [s["index"] for s in strokes] == list(range(len(strokes)))
+    assert all(s["role"] in ("boundary", "interior") and s["status"] in ("accepted", "rejected") for s in strokes)
+    assert f"{report['faces']} faces" in proc.stdout
+
+
+def test_strokes_from_several_files_are_taken_in_order(tmp_path):
+    if not EXAMPLE.exists():
+        pytest.skip(f"{EXAMPLE.name} not written yet")
+    blocks = EXAMPLE.read_text().strip().split("\n\n")
+    (tmp_path / "a.xyz").write_text("\n\n".join(blocks[:4]) + "\n")
+    (tmp_path / "b.xyz").write_text("\n\n".join(blocks[4:]) + "\n")
+    proc = run("build", str(tmp_path / "a.xyz"), str(tmp_path / "b.xyz"), "-o", str(tmp_path / "o.step"),
+               "--report", str(tmp_path / "o.json"), "--boundary-count", "4", "-q")
+    assert proc.returncode == 0, proc.stderr
+    report = json.loads((tmp_path / "o.json").read_text())
+    assert [s["role"] for s in report["strokes"][:4]] == ["boundary"] * 4
+    from ProgSurf.io import read_strokes
+
+    assert len(report["strokes"]) == len(read_strokes(EXAMPLE))
+
+
+def _bad_boundary(path: Path) -> None:
+    """Four short strokes at the corners of a 1 m square: gaps far wider than any closing limit."""
+    t = np.linspace(0, 1, 10)[:, None]
+    strokes = [np.array([0, 0, 0]) + t * [10, 0, 0], np.array([1000, 0, 0]) + t * [0, 10, 0],
+               np.array([1000, 1000, 0]) - t * [10, 0, 0], np.array([0, 1000, 0]) - t * [0, 10, 0]]
+    path.write_text("\n\n".join("\n".join(" ".join(f"{v:.3f}" for v in p) for p in s) for s in strokes) + "\n")
+
+
+@pytest.mark.parametrize("case", ["missing", "malformed", "open_boundary", "bad_option"])
+def test_bad_input_exits_2_with_one_line(tmp_path, case):
+    stroke_file = tmp_path / "s.xyz"
+    extra: list = []
+    if case == "missing":
+        stroke_file = tmp_path / "nope.xyz"
+    elif case == "malformed":
+        stroke_file.write_text("0 0 0\n1 0 0\n1 x 0\n")
+    elif case == "open_boundary":
+        _bad_boundary(stroke_file)
+    else:
+        _bad_boundary(stroke_file)
+        extra = ["--fit-tol", "-1"]
+    proc = run("build", str(stroke_file), "-o", str(tmp_path / "o.step"), *extra)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in proc.stderr
+    expected = {"missing": "nope.xyz", "malformed": "line 3", "open_boundary": "gap",
+                "bad_option": "--fit-tol"}[case]
+    assert expected in lines[0]
+    assert not (tmp_path / "o.step").exists()
