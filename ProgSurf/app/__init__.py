@@ -1,0 +1,12 @@
+"""ProgSurf document layer: FeaturePython objects and the make_* scripting API.
+
+Headless-safe: nothing here imports FreeCADGui or PySide at module level. When the GUI is up,
+the make_* functions attach the view providers of ProgSurf.gui (as Draft's draftmake does).
+
+  stroke_object   the Stroke feature: a polyline from points, a sketch chain or edges
+  surface_object  the progressive Surface feature: pipeline.build + the cad adapter
+  extract         sketches / edges / wires -> ordered 3D point lists
+  make            the make_* scripting API (one call per command)
+  importer        FreeCAD import module for stroke files (open / insert)
+  params          the preference group holding default tolerances
+"""

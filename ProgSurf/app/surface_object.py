@@ -1,0 +1,163 @@
+"""The progressive Surface feature (Qin & Wright, section 3: base Coons patch + interior strokes).
+
+Inputs are links to Stroke features: ``Boundary`` (the boundary strokes, or with
+``AutoBoundary`` every stroke to classify, paper section 2 "identify boundary curves") and
+``Interior`` (the interior strokes in drawing order: later strokes win, step 4-10).
+``execute`` gathers the strokes' points, runs ``ProgSurf.core.pipeline.build`` and turns the
+patch network into a shell of B-spline faces with ``ProgSurf.cad``.
+
+A rejected stroke never breaks the surface: it is marked on the stroke and in ``StrokeStatus``
+and reported as a warning. If the build fails (a ProgSurfError or an OCC failure), the error is
+reported on the Report view and in ``LastError`` and the previous valid Shape is kept.
+"""
+from __future__ import annotations
+
+import FreeCAD
+import Part
+
+from ProgSurf.core.errors import ProgSurfError
+from ProgSurf.core.types import Tolerances
+
+from . import stroke_object
+from .params import default_tolerances
+from .stroke_object import PROP_OUTPUT, _add
+
+TYPE = "ProgSurf::Surface"
+CONTINUITY = ["G0"]
+
+RESULTS = (
+    ("App::PropertyInteger", "PatchCount", "Number of sub-patches (faces) of the surface"),
+    ("App::PropertyStringList", "StrokeStatus", "One line per stroke: index role status reason"),
+    ("App::PropertyFloat", "SeamGap", "Largest gap between neighbouring faces along seams (mm)"),
+    ("App::PropertyFloat", "SeamAngleMax",
+     "Largest angle between normals of neighbouring faces along seams (deg, G1 defect)"),
+    ("App::PropertyFloatList", "StrokeDeviation",
+     "Largest distance of each stroke from the surface (mm), in stroke order; -1 if rejected"),
+    ("App::PropertyFloat", "StrokeDeviationMax", "Largest deviation of an accepted stroke (mm)"),
+    ("App::PropertyFloat", "FitDeviation", "Largest distance of a face from its Coons sub-patch"),
+    ("App::PropertyString", "LastError", "Why the last recompute failed (empty when it worked)"),
+)
+
+
+class SurfaceProxy:
+    """Proxy of a Part::FeaturePython progressive surface. Saved state: a tiny JSON-safe dict.
+
+    The last BuildResult and analysis are kept on the proxy for the Analyse view only
+    (transient: a reopened document rebuilds them on recompute).
+    """
+
+    def __init__(self, obj) -> None:
+        obj.Proxy = self
+        self.Object = obj
+        self.result = None
+        self.analysis = None
+        self.setup(obj)
+
+    def setup(self, obj) -> None:
+        """Create missing properties (new objects and documents saved by older versions)."""
+        _add(obj, "App::PropertyString", "Type", "Base", "ProgSurf object type", read_only=True)
+        obj.Type = TYPE
+        _add(obj, "App::PropertyLinkList", "Boundary", "Strokes",
+             "Boundary strokes; with AutoBoundary: all strokes to classify")
+        _add(obj, "App::PropertyBool", "AutoBoundary", "Strokes",
+             "Classify the Boundary list automatically into boundary and interior strokes")
+        _add(obj, "App::PropertyLinkList", "Interior", "Strokes",
+             "Interior strokes in drawing order (later strokes win)")
+        defaults = default_tolerances()
+        for name, doc, value in (
+                ("FilterThreshold", "Stroke filter distance in mm (0 = automatic)",
+                 defaults.filter_mm),
+                ("SnapTolerance", "Snap distance of stroke ends to boundaries in mm (0 = auto)",
+                 defaults.snap_mm),
+                ("FitTolerance", "How far a B-spline face may lie from its Coons sub-patch (mm)",
+                 defaults.fit_mm)):
+            if name not in obj.PropertiesList:
+                obj.addProperty("App::PropertyFloat", name, "Tolerances", doc)
+                setattr(obj, name, value)
+        _add(obj, "App::PropertyBool", "Skin", "Surface",
+             "Exchange surface: one B-spline skinned through u-sections (paper section 3.3)")
+        if "Continuity" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Continuity", "Surface",
+                            "Continuity across seams between sub-patches")
+            obj.Continuity = CONTINUITY
+        for kind, name, doc in RESULTS:
+            _add(obj, kind, name, "Result", doc, PROP_OUTPUT, read_only=True)
+
+    # -- recompute -------------------------------------------------------------------------
+    def strokes(self, obj) -> list:
+        """All input strokes in pipeline order: Boundary list, then Interior list."""
+        return list(obj.Boundary) + list(obj.Interior)
+
+    def tolerances(self, obj) -> Tolerances:
+        """The object's tolerances as the core's one Tolerances value (0 -> automatic)."""
+        return Tolerances(filter_mm=obj.FilterThreshold or None,
+                          snap_mm=obj.SnapTolerance or None,
+                          fit_mm=obj.FitTolerance if obj.FitTolerance > 0 else 0.01)
+
+    def execute(self, obj) -> None:
+        from ProgSurf.app import build  # heavy: pipeline + cad, loaded on first recompute
+
+        strokes = self.strokes(obj)
+        boundary = None if obj.AutoBoundary else len(obj.Boundary)
+        try:
+            outcome = build.build_surface(
+                [stroke_object.stroke_points(s) for s in strokes], boundary,
+                self.tolerances(obj), skin=obj.Skin, continuity=obj.Continuity)
+        except (ProgSurfError, Part.OCCError) as exc:
+            message = f"{obj.Label}: {exc}; the previous shape is kept"
+            FreeCAD.Console.PrintError(f"ProgSurf: {message}\n")
+            obj.LastError = message
+            return
+        self.result, self.analysis = outcome.result, outcome.analysis
+        for line, stroke in zip(outcome.status_lines, strokes):
+            if " rejected" in line:
+                FreeCAD.Console.PrintWarning(f"ProgSurf: {obj.Label}: stroke {stroke.Label} "
+                                             f"rejected: {line.split(' ', 3)[-1]}\n")
+        for record in outcome.result.records:
+            stroke_object.set_result(strokes[record.index], record.role, record.status,
+                                     record.reason or "")
+        release_unused_strokes(obj.Document)
+        obj.Shape = outcome.shape
+        obj.PatchCount = len(outcome.result.network.regions())
+        obj.StrokeStatus = outcome.status_lines
+        obj.SeamGap = outcome.analysis.seam_gap_mm
+        obj.SeamAngleMax = outcome.analysis.seam_angle_deg
+        obj.StrokeDeviation = list(outcome.analysis.stroke_deviation_mm)
+        obj.StrokeDeviationMax = max([d for d in obj.StrokeDeviation if d >= 0] or [0.0])
+        obj.FitDeviation = outcome.analysis.fit_deviation_mm
+        obj.LastError = ""
+
+    def onDocumentRestored(self, obj) -> None:
+        self.Object = obj
+        self.result = None
+        self.analysis = None
+        self.setup(obj)
+
+    def __getstate__(self) -> dict:
+        return {"type": TYPE, "version": 1}
+
+    def __setstate__(self, state) -> None:
+        self.result = None
+        self.analysis = None
+
+    def dumps(self) -> dict:
+        return self.__getstate__()
+
+    def loads(self, state) -> None:
+        return self.__setstate__(state)
+
+
+def is_surface(obj) -> bool:
+    """True for a ProgSurf progressive surface feature."""
+    return bool(obj is not None and getattr(obj, "Type", "") == TYPE)
+
+
+def release_unused_strokes(doc) -> None:
+    """Clear Role/Status of strokes that no surface uses any more (removed, or undone)."""
+    for stroke in doc.Objects:
+        if not stroke_object.is_stroke(stroke) or not stroke.Status:
+            continue
+        users = [o for o in stroke.InList if is_surface(o)
+                 and (stroke in o.Boundary or stroke in o.Interior)]
+        if not users:
+            stroke_object.clear_result(stroke)

@@ -1,0 +1,29 @@
+"""ProgSurf GUI layer: commands, view providers, task panels, preferences, analysis view.
+
+The only package that imports FreeCADGui or PySide. InitGui.py calls the two functions below
+when the workbench is first activated.
+"""
+import os
+
+UI_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                      "resources", "ui")
+
+
+def register_commands() -> list[str]:
+    """Register the workbench's commands with FreeCADGui; return their names in toolbar order."""
+    from ProgSurf.app import make
+
+    from . import commands, view_providers
+
+    make.VIEW_PROVIDER_HOOK = view_providers.attach
+    return commands.register()
+
+
+def register_preferences() -> None:
+    """Register the preferences page of the default tolerances (Edit > Preferences > ProgSurf).
+
+    Values live in ``User parameter:BaseApp/Preferences/Mod/ProgSurf``; make_surface reads them.
+    """
+    import FreeCADGui
+
+    FreeCADGui.addPreferencePage(os.path.join(UI_DIR, "preferences.ui"), "ProgSurf")

@@ -1,0 +1,170 @@
+"""Task panel of the progressive surface: pick or confirm the boundary strokes, set the
+tolerances, and watch a live preview. Creating or editing is one undo transaction: OK commits
+it, Cancel aborts it (a new surface disappears again).
+
+``CURRENT`` holds the open panel, so tests can drive it (``CURRENT.accept()``).
+"""
+from __future__ import annotations
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtCore, QtGui
+
+from ProgSurf.app import make
+from ProgSurf.app.stroke_object import is_stroke
+from ProgSurf.core.errors import ProgSurfError
+
+from .view_providers import icon
+
+CURRENT = None
+
+
+def create_surface(preselected: list) -> "SurfacePanel | None":
+    """Create command: a new surface (automatic boundary) in an open transaction + its panel."""
+    doc = FreeCAD.ActiveDocument
+    strokes = preselected if len(preselected) >= 3 else [o for o in doc.Objects if is_stroke(o)]
+    doc.openTransaction("Create progressive surface")
+    try:
+        surface = make.make_surface(all_strokes=strokes)
+    except ProgSurfError as exc:
+        doc.abortTransaction()
+        from .commands import tell
+
+        tell("Create progressive surface", str(exc))
+        return None
+    return _show(SurfacePanel(surface, created=True))
+
+
+def edit_surface(surface) -> "SurfacePanel":
+    """Double-click / Edit: the panel on an existing surface, in its own transaction."""
+    surface.Document.openTransaction("Edit progressive surface")
+    return _show(SurfacePanel(surface, created=False))
+
+
+def _show(panel: "SurfacePanel") -> "SurfacePanel":
+    global CURRENT
+    CURRENT = panel
+    FreeCADGui.Control.showDialog(panel)
+    return panel
+
+
+class SurfacePanel:
+    """The task panel: stroke list (checked = boundary), automatic classification, tolerances."""
+
+    def __init__(self, surface, created: bool) -> None:
+        self.surface, self.created = surface, created
+        self.doc = surface.Document
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("Progressive surface")
+        self.form.setWindowIcon(QtGui.QIcon(icon("ProgSurf_CreateSurface")))
+        layout = QtGui.QVBoxLayout(self.form)
+
+        self.auto = QtGui.QCheckBox("Classify the checked strokes automatically")
+        self.auto.setToolTip("Qin & Wright section 2: the furthest curves from the centroid "
+                             "form the boundary; the others become interior strokes")
+        self.auto.setChecked(surface.AutoBoundary)
+        layout.addWidget(self.auto)
+        layout.addWidget(QtGui.QLabel("Boundary strokes (checked):"))
+        self.list = QtGui.QListWidget()
+        used = set(surface.Boundary)
+        self.strokes = [o for o in self.doc.Objects if is_stroke(o) and o not in surface.Interior]
+        for stroke in self.strokes:
+            item = QtGui.QListWidgetItem(QtGui.QIcon(icon("ProgSurf_Stroke")), stroke.Label)
+            item.setFlags(item.flags() | QtCore.Qt.ItemIsUserCheckable)
+            item.setCheckState(QtCore.Qt.Checked if stroke in used else QtCore.Qt.Unchecked)
+            self.list.addItem(item)
+        layout.addWidget(self.list)
+        interior = ", ".join(s.Label for s in surface.Interior) or "none (use Add interior)"
+        layout.addWidget(QtGui.QLabel(f"Interior strokes, in order: {interior}"))
+
+        form = QtGui.QFormLayout()
+        self.spins = {}
+        for name, label, decimals in (("FilterThreshold", "Filter threshold (0 = auto)", 4),
+                                      ("SnapTolerance", "Snap tolerance (0 = auto)", 4),
+                                      ("FitTolerance", "Fit tolerance", 5)):
+            spin = QtGui.QDoubleSpinBox()
+            spin.setDecimals(decimals)
+            spin.setRange(0.0, 1e5)
+            spin.setSuffix(" mm")
+            spin.setValue(getattr(surface, name))
+            form.addRow(label, spin)
+            self.spins[name] = spin
+        self.skin = QtGui.QCheckBox("Exchange surface (skin, paper 3.3)")
+        self.skin.setChecked(surface.Skin)
+        form.addRow(self.skin)
+        layout.addLayout(form)
+        self.preview = QtGui.QCheckBox("Live preview")
+        self.preview.setChecked(True)
+        layout.addWidget(self.preview)
+        self.status = QtGui.QLabel()
+        self.status.setWordWrap(True)
+        layout.addWidget(self.status)
+
+        self.auto.toggled.connect(self.changed)
+        self.list.itemChanged.connect(self.changed)
+        self.skin.toggled.connect(self.changed)
+        self.preview.toggled.connect(self.changed)
+        for spin in self.spins.values():
+            spin.valueChanged.connect(self.changed)
+        self.show_status()
+
+    # -- values -> object ------------------------------------------------------------------
+    def boundary(self) -> list:
+        return [s for i, s in enumerate(self.strokes)
+                if self.list.item(i).checkState() == QtCore.Qt.Checked]
+
+    def apply(self) -> None:
+        """Write the panel's values into the surface's properties."""
+        s = self.surface
+        boundary = self.boundary()
+        if s.AutoBoundary != self.auto.isChecked():
+            s.AutoBoundary = self.auto.isChecked()
+        if list(s.Boundary) != boundary:
+            s.Boundary = boundary
+        for name, spin in self.spins.items():
+            if abs(getattr(s, name) - spin.value()) > 1e-12:
+                setattr(s, name, spin.value())
+        if s.Skin != self.skin.isChecked():
+            s.Skin = self.skin.isChecked()
+
+    def changed(self, *_args) -> None:
+        if self.preview.isChecked():
+            self.apply()
+            self.doc.recompute()
+            self.show_status()
+
+    def show_status(self) -> None:
+        s = self.surface
+        lines = [f"{s.PatchCount} patch(es)"] + list(s.StrokeStatus)
+        if s.LastError:
+            lines.append(f"<font color='red'>{s.LastError}</font>")
+        self.status.setText("<br>".join(lines))
+
+    # -- task dialog protocol --------------------------------------------------------------
+    def getStandardButtons(self) -> int:
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+    def accept(self) -> bool:
+        global CURRENT
+        if len(self.boundary()) < 3:
+            self.status.setText("<font color='red'>check at least 3 boundary strokes</font>")
+            return False
+        self.apply()
+        self.doc.recompute()
+        self.doc.commitTransaction()
+        self._close()
+        CURRENT = None
+        return True
+
+    def reject(self) -> bool:
+        global CURRENT
+        self.doc.abortTransaction()
+        self.doc.recompute()
+        self._close()
+        CURRENT = None
+        return True
+
+    def _close(self) -> None:
+        FreeCADGui.Control.closeDialog()
+        if FreeCADGui.ActiveDocument and FreeCADGui.ActiveDocument.getInEdit():
+            FreeCADGui.ActiveDocument.resetEdit()

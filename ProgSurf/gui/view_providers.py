@@ -1,0 +1,152 @@
+"""View providers of the Stroke and Surface features.
+
+Stroke colour tells its outcome in the surface that uses it: boundary (blue), interior accepted
+(green), rejected (red), unused (grey). The surface can colour its faces by an analysis value
+(``ColourBy``), recomputed whenever its Shape changes.
+"""
+from __future__ import annotations
+
+import os
+
+ICONS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                     "resources", "icons")
+
+COLOURS = {
+    ("boundary", "accepted"): (0.10, 0.30, 0.90),
+    ("interior", "accepted"): (0.05, 0.65, 0.15),
+    "rejected": (0.90, 0.10, 0.10),
+    "unused": (0.45, 0.45, 0.45),
+}
+COLOUR_BY = ["None", "Stroke deviation", "Seam defect"]
+
+
+def icon(name: str) -> str:
+    """Absolute path of resources/icons/<name>.svg."""
+    return os.path.join(ICONS, f"{name}.svg")
+
+
+def stroke_colour(role: str, status: str) -> tuple:
+    """RGB of a stroke from its Role and Status (set by the surface that uses it)."""
+    if status == "rejected":
+        return COLOURS["rejected"]
+    return COLOURS.get((role, status), COLOURS["unused"])
+
+
+def attach(vobj, kind: str) -> None:
+    """Give a new object's ViewObject the ProgSurf view provider of ``kind``."""
+    if kind == "stroke":
+        ViewProviderStroke(vobj)
+    elif kind == "surface":
+        ViewProviderSurface(vobj)
+    else:
+        raise ValueError(f"unknown view provider kind {kind!r}; use 'stroke' or 'surface'")
+
+
+class _Base:
+    icon_name = "ProgSurf"
+
+    def __init__(self, vobj) -> None:
+        vobj.Proxy = self
+        self.Object = vobj.Object
+        self.ViewObject = vobj
+
+    def attach(self, vobj) -> None:
+        self.ViewObject = vobj
+        self.Object = vobj.Object
+
+    def getIcon(self) -> str:
+        return icon(self.icon_name)
+
+    def __getstate__(self):
+        return {"kind": self.icon_name}
+
+    def __setstate__(self, state) -> None:
+        return None
+
+    def dumps(self):
+        return self.__getstate__()
+
+    def loads(self, state) -> None:
+        return self.__setstate__(state)
+
+
+class ViewProviderStroke(_Base):
+    """A stroke: its polyline and its points, coloured by role and status."""
+
+    icon_name = "ProgSurf_Stroke"
+
+    def __init__(self, vobj) -> None:
+        super().__init__(vobj)
+        vobj.LineWidth = 3.0
+        vobj.PointSize = 4.0
+        self.colour(vobj)
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop in ("Role", "Status", "Shape") and getattr(obj, "ViewObject", None):
+            self.colour(obj.ViewObject)
+
+    def colour(self, vobj) -> None:
+        obj = vobj.Object
+        rgb = stroke_colour(getattr(obj, "Role", ""), getattr(obj, "Status", ""))
+        for prop in ("LineColor", "PointColor"):
+            if tuple(round(c, 3) for c in getattr(vobj, prop)[:3]) != \
+                    tuple(round(c, 3) for c in rgb):
+                setattr(vobj, prop, rgb)
+
+    def onChanged(self, vobj, prop: str) -> None:
+        return None
+
+
+class ViewProviderSurface(_Base):
+    """A progressive surface; double-click opens its task panel."""
+
+    icon_name = "ProgSurf_Surface"
+
+    def __init__(self, vobj) -> None:
+        super().__init__(vobj)
+        self.setup(vobj)
+        vobj.ShapeColor = (0.80, 0.80, 0.70)
+
+    def setup(self, vobj) -> None:
+        if "ColourBy" not in vobj.PropertiesList:
+            vobj.addProperty("App::PropertyEnumeration", "ColourBy", "Analysis",
+                             "Colour the faces by an analysis value (Analyse command)")
+            vobj.ColourBy = COLOUR_BY
+
+    def attach(self, vobj) -> None:
+        super().attach(vobj)
+        self.setup(vobj)
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop == "Shape" and getattr(obj, "ViewObject", None):
+            self.apply_colours(obj.ViewObject)
+
+    def onChanged(self, vobj, prop: str) -> None:
+        if prop == "ColourBy":
+            self.apply_colours(vobj)
+
+    def apply_colours(self, vobj) -> None:
+        from . import analysis_view  # the colour map lives with the analysis view
+
+        analysis_view.colour_faces(vobj)
+
+    def setEdit(self, vobj, mode: int = 0) -> bool:
+        if mode != 0:
+            return False
+        from . import task_panel
+
+        task_panel.edit_surface(vobj.Object)
+        return True
+
+    def unsetEdit(self, vobj, mode: int = 0) -> bool:
+        import FreeCADGui
+
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def doubleClicked(self, vobj) -> bool:
+        import FreeCADGui
+
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
+        return True
+
