@@ -1,15 +1,16 @@
-# ProgSurf: the two commands of the README, and the install step they share.
-.PHONY: install demo test
+# ProgSurf: shortcuts for the README's two commands (./demo.sh, ./test.sh) and the benchmark.
+.PHONY: install demo test bench
 
 install:
 	./install.sh
 
-# The main job on a bundled example: strokes in, STEP shell, picture and report out.
-demo: install
-	mkdir -p out
-	.venv/bin/python -m ProgSurf build examples/clean4.xyz -o out/demo.step \
-		--png out/demo.png --report out/demo.json
+demo:
+	./demo.sh
 
-# The whole suite, three levels (core+app pytest, freecadcmd -t TestProgSurfApp, GUI under Xvfb).
-test: install
-	.venv/bin/python tests/run_suite.py
+test:
+	./test.sh
+
+# Benchmarks against FreeCAD's Surface::Filling / GeomFillSurface (issue 8); ~7 min on 2 cores.
+bench: install
+	mkdir -p out/bench
+	.venv/bin/python benchmarks/run.py --out out/bench

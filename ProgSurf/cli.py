@@ -2,7 +2,7 @@
 
     /usr/bin/python3 -m ProgSurf build STROKE_FILE... -o OUT.step [--iges OUT.igs] [--fcstd OUT.FCStd]
         [--png OUT.png] [--report OUT.json] [--boundary-count N] [--filter MM] [--snap MM]
-        [--fit-tol MM] [--skin] [--continuity G0]
+        [--fit-tol MM] [--skin] [--continuity G0|G1]
 
 Strokes are taken in file order, then in the order the files are given. Exit 0 on success, 2 on bad
 input (one line on stderr, no traceback), 1 when OCC fails on valid input.
@@ -41,7 +41,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="largest distance of a B-spline face from its Coons sub-patch (default %(default)s)")
     b.add_argument("--skin", action="store_true",
                    help="also write OUT_skin.step: one B-spline surface skinned across all patches")
-    b.add_argument("--continuity", choices=["G0"], default="G0", help="continuity across seams (G0 only, for now)")
+    b.add_argument("--continuity", choices=["G0", "G1"], default="G0",
+                   help="continuity across seams: G0 the paper's Coons patches, G1 tangent-continuous "
+                        "seams (kinked strokes stay sharp); default %(default)s")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
     return p
 
@@ -111,10 +113,10 @@ def run_build(args, out=sys.stdout) -> dict:
 
     from . import cad
     from .cad import analysis
-    from .io.report import make_report, write_report
+    from .io.report import continuity_section, make_report, write_report
 
     clock = time.perf_counter()
-    shell = cad.build_shell(result.network, result.tol)
+    shell = cad.build_shell(result.network, result.tol, continuity=args.continuity)
     timings["fit"] = time.perf_counter() - clock
     shape = shell.shape
     if len(shape.Shells) != 1 or not shape.isValid():
@@ -126,6 +128,8 @@ def run_build(args, out=sys.stdout) -> dict:
     fit_dev = analysis.fit_deviation(shell, result.network)
     stroke_dev = {r.index: float(analysis.point_distances(shell, r.points).max())
                   for r in result.accepted if r.points is not None and len(r.points)}
+    g1_stats = analysis.g1_seam_stats(shell, result.network)
+    g0_stats = analysis.g1_seam_stats(analysis.g0_view(shell), result.network) if args.continuity == "G1" else ()
     shell_info = analysis.shell_seam_gaps(shape)
     shell_info.update({"valid": bool(shape.isValid()), "area_mm2": float(shape.Area)})
     timings["analysis"] = time.perf_counter() - clock
@@ -170,7 +174,8 @@ def run_build(args, out=sys.stdout) -> dict:
         timings_s=timings, inputs=list(args.inputs), outputs=outputs,
         tolerances={"filter_mm": result.tol.filter_mm, "snap_mm": result.tol.snap_mm,
                     "fit_mm": result.tol.fit_mm},
-        shell=shell_info, extra=dict(extra, continuity=args.continuity))
+        shell=shell_info, extra=dict(extra, **continuity_section(
+            args.continuity, g1_stats, g0_stats, shell.timings_s.get("g1"))))
     if args.report:
         write_report(report, args.report)
     if not args.quiet:
@@ -187,6 +192,8 @@ def summary(report: dict) -> str:
              f"{report['seam_angle_max_deg']:.2f} deg (median {report['seam_angle_median_deg']:.2f})",
              f"fit deviation max {report['fit_deviation_max_mm']:.4f} mm; stroke deviation max "
              f"{report['stroke_deviation_max_mm']:.4f} mm",
+             f"continuity {report['continuity']}; seam angle away from sharp features max "
+             f"{report.get('seam_' + report['continuity'].lower(), {}).get('smooth_max_deg', 0.0):.2f} deg",
              f"poles per face max {max((p['u_poles'] * p['v_poles'] for p in report['poles_per_face']), default=0)}"]
     lines += [f"  stroke {s['index']} ({s['role']}) rejected: {s['reason']}" for s in strokes
               if s["status"] == "rejected"]

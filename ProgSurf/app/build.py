@@ -112,11 +112,11 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
     boundary: None (classify automatically), or the count of leading boundary strokes.
     Raises ProgSurfError (bad input, boundary not closed, fit failure) or Part.OCCError.
     """
-    if continuity != "G0":
-        raise ProgSurfError(f"Continuity {continuity!r} is not available yet; use 'G0'")
+    if continuity not in cad_shell.CONTINUITIES:
+        raise ProgSurfError(f"Continuity {continuity!r} is not one of {', '.join(cad_shell.CONTINUITIES)}")
     result = pipeline.build([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
                             tol=tol)
-    shell = cad_shell.build_shell(result.network, tol)
+    shell = cad_shell.build_shell(result.network, tol, continuity=continuity)
     shape = shell.shape
     if shape.isNull() or not shape.Faces:
         raise FitError("the cad adapter returned no face; check the boundary strokes")

@@ -23,7 +23,8 @@ from .params import default_tolerances
 from .stroke_object import PROP_OUTPUT, _add
 
 TYPE = "ProgSurf::Surface"
-CONTINUITY = ["G0"]
+CONTINUITY = ["G0", "G1"]
+"""G0: the paper's Coons sub-patches; G1: tangent-continuous seams (issue 9, ProgSurf.cad.g1)."""
 
 RESULTS = (
     ("App::PropertyInteger", "PatchCount", "Number of sub-patches (faces) of the surface"),
@@ -78,8 +79,14 @@ class SurfaceProxy:
              "Exchange surface: one B-spline skinned through u-sections (paper section 3.3)")
         if "Continuity" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Continuity", "Surface",
-                            "Continuity across seams between sub-patches")
+                            "Continuity across seams: G0 Coons sub-patches, G1 tangent-continuous seams "
+                            "(kinked strokes and outer corners stay sharp)")
             obj.Continuity = CONTINUITY
+        elif list(obj.getEnumerationsOfProperty("Continuity")) != CONTINUITY:
+            # a document saved when only G0 existed: offer the new modes, keep the chosen one
+            current = obj.Continuity if obj.Continuity in CONTINUITY else CONTINUITY[0]
+            obj.Continuity = CONTINUITY
+            obj.Continuity = current
         for kind, name, doc in RESULTS:
             _add(obj, kind, name, "Result", doc, PROP_OUTPUT, read_only=True)
 

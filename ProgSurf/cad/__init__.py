@@ -2,15 +2,16 @@
 
 Network polylines -> shared cubic B-spline edge curves (curves, fit); regions -> exact Coons B-spline
 faces (faces); faces -> one sewn shell (shell); STEP/IGES export and fresh-process read-back (export);
+G1 faces by flux correction (g1);
 seam gaps, G1 defect, fit and stroke deviations (analysis); a matplotlib picture (render).
 Only this package imports FreeCAD/Part and converts numpy <-> FreeCAD.Vector.
 """
 from .shell import FaceInfo, ShellResult, SidePiece, build_shell, fit_edges
 from .faces import coons_surface
 from .export import export_iges, export_shape, export_step, read_back, skin_surface, summarize
-from .analysis import (SeamStat, fit_deviation, point_distances, seam_stats, shape_point_distances,
-                       shell_seam_gaps)
+from .analysis import (G1SeamStat, SeamStat, fit_deviation, g1_seam_stats, point_distances, seam_stats,
+                       shape_point_distances, shell_seam_gaps)
 
 __all__ = ["FaceInfo", "ShellResult", "SidePiece", "build_shell", "fit_edges", "coons_surface",
            "export_iges", "export_shape", "export_step", "read_back", "skin_surface", "summarize", "SeamStat",
-           "fit_deviation", "point_distances", "seam_stats", "shape_point_distances", "shell_seam_gaps"]
+           "fit_deviation", "point_distances", "seam_stats", "G1SeamStat", "g1_seam_stats", "shape_point_distances", "shell_seam_gaps"]

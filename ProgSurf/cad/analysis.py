@@ -175,3 +175,98 @@ def shell_seam_gaps(shape, samples: int = 32) -> dict:
             pts.append(np.array([tuple(placement.multVec(surface.value(p.x, p.y))) for p in uv]))
         gap = max(gap, float(np.linalg.norm(pts[0] - pts[1], axis=1).max()))
     return {"shared_edges": shared, "free_edges": free, "seam_gap_max_mm": gap}
+
+
+SHARP_NODE_ZONE = 0.1
+"""Part of a seam (edge parameter, at each end) next to a sharp node that the G1 target leaves out
+(cad.g1.SHARP_TAPER: the correction fades in over it, the G0 crease of the node is kept)."""
+
+
+@dataclass(frozen=True)
+class G1SeamStat:
+    """One interior seam measured for the G1 targets (issue 9).
+
+    angle_max_deg, angle_median_deg : over all samples (as SeamStat)
+    sharp           : the seam lies on a kinked stroke (core.continuity.sharp_edges): a kept feature
+    smooth_max_deg  : largest angle away from sharp nodes (SHARP_NODE_ZONE at such ends); the
+                      number the 1 degree target applies to (0 for a sharp seam)
+    node_spread_deg : (2,) corner-normal spread at its two nodes (> SHARP_NODE_DEG: sharp node)
+    """
+
+    edge_id: int
+    region_a: int
+    region_b: int
+    gap_max_mm: float
+    angle_max_deg: float
+    angle_median_deg: float
+    sharp: bool
+    smooth_max_deg: float
+    node_spread_deg: tuple
+
+
+def _corner_normal(surface, corner: int) -> FloatArray | None:
+    s, r = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))[corner]
+    return _unit_normal(surface, s, r)
+
+
+def node_spreads(result, network) -> dict:
+    """node id -> largest angle (deg) between the corner normals of the faces cornered there."""
+    from ..core.continuity import node_normal
+
+    normals: dict = {}
+    for info in result.faces:
+        ids, _ = network.region_corners(info.region_id)
+        for k, nid in enumerate(ids):
+            normals.setdefault(nid, []).append(_corner_normal(info.surface, k))
+    return {nid: node_normal(ns)[1] for nid, ns in normals.items()}
+
+
+def g1_seam_stats(result, network, samples: int = 128) -> list[G1SeamStat]:
+    """Seam gap and normal angle of every interior seam, with the intended sharp features marked
+    by rule: seams on kinked strokes (result.sharp_edges, or core.continuity.sharp_edges) and the
+    ends of seams at sharp nodes (corner normals spread by more than SHARP_NODE_DEG)."""
+    from ..core.continuity import SHARP_NODE_DEG, sharp_edges
+
+    sharp = result.sharp_edges if result.continuity == "G1" else sharp_edges(network)
+    spreads = node_spreads(result, network)
+    edges = network.edges()
+    t = np.linspace(0.0, 1.0, samples)
+    out = []
+    for eid, uses in sorted(_edge_uses(result).items()):
+        if len(uses) != 2:
+            continue
+        (fa, ka, pa), (fb, kb, pb) = uses
+        e = edges[eid]
+        spread = (spreads.get(e.node0, 0.0), spreads.get(e.node1, 0.0))
+        keep = np.ones(samples, dtype=bool)
+        if spread[0] > SHARP_NODE_DEG:
+            keep &= t > SHARP_NODE_ZONE
+        if spread[1] > SHARP_NODE_DEG:
+            keep &= t < 1.0 - SHARP_NODE_ZONE
+        gaps, angles, kept = [], [], []
+        for x, k in zip(t, keep):
+            sa, ra = _side_point(fa, ka, pa, x)
+            sb, rb = _side_point(fb, kb, pb, x)
+            gaps.append(float(np.linalg.norm(np.array(tuple(fa.surface.value(sa, ra)))
+                                             - np.array(tuple(fb.surface.value(sb, rb))))))
+            na, nb = _unit_normal(fa.surface, sa, ra), _unit_normal(fb.surface, sb, rb)
+            if na is not None and nb is not None:
+                a = float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0))))
+                angles.append(a)
+                if k:
+                    kept.append(a)
+        is_sharp = eid in sharp
+        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, max(gaps), max(angles, default=0.0),
+                              float(np.median(angles)) if angles else 0.0, is_sharp,
+                              0.0 if is_sharp else max(kept, default=0.0), spread))
+    return out
+
+
+def g0_view(result):
+    """The G0 faces a G1 ShellResult was made from, as a ShellResult (shape None), for measuring
+    G0 beside G1 on the same strokes; a G0 result is returned as it is."""
+    from dataclasses import replace
+
+    if result.continuity != "G1":
+        return result
+    return replace(result, shape=None, faces=result.g0_faces, continuity="G0", g0_faces=())

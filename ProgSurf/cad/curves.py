@@ -64,7 +64,7 @@ def bspline(knots: FloatArray, poles: FloatArray, degree: int = DEGREE):
 
 
 def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
-               name: str = "curve"):
+               name: str = "curve", breaks=()):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
     at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
     included). Two points (or all coincident) give a straight segment.
@@ -80,7 +80,7 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
     fp = np.array([fixed[k] for k in ft], dtype=float)
     if (len(pts) == 2 and len(ft) == 2) or np.ptp(np.vstack([pts, fp]), axis=0).max() <= 1e-12:
         return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
-    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name)
+    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks)
     return bspline(knots, poles)
 
 

@@ -64,7 +64,7 @@ def _samples(t: FloatArray, interior: FloatArray, per_span: int = 4) -> FloatArr
 
 
 def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: FloatArray, tol: float,
-              name: str = "curve", max_rounds: int = 40) -> tuple[FloatArray, FloatArray]:
+              name: str = "curve", max_rounds: int = 40, breaks=()) -> tuple[FloatArray, FloatArray]:
     """Cubic B-spline C through fixed_p at fixed_t and within tol of the piecewise-linear polyline
     (t, pts) everywhere it is sampled (params in [0, 1]): the Coons sub-patch is built on that
     polyline, so the curve must follow it between the vertices too. Knots are refined where the
@@ -75,7 +75,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     t = np.asarray(t, dtype=float)
     pts = np.asarray(pts, dtype=float)
     scale = max(float(np.ptp(pts, axis=0).max()), 1e-9)
-    interior = np.array([])
+    # A kink of the polyline at a node (a curve pulled to a later stroke there) gets a C0 knot of
+    # full multiplicity, instead of a crowd of knots that would chase the corner.
+    interior = np.repeat(np.sort(np.asarray(breaks, dtype=float)), DEGREE)
     for _ in range(max_rounds):
         knots = np.concatenate([np.zeros(DEGREE + 1), interior, np.ones(DEGREE + 1)])
         x = _samples(t, interior)
@@ -83,11 +85,18 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         lam = 1e-8 * len(x)
         poles = _solve(knots, x, data, fixed_t, fixed_p, lam, np.ones(len(x)))
         res = np.linalg.norm(basis_matrix(knots, x) @ poles - data, axis=1)
+        # The tolerance is checked at the polyline's vertices: the network polylines are dense
+        # samples of faired curves, and between vertices the chords are the polyline's own sag,
+        # not a fitting error (chasing it made knots multiply without end).
+        res = np.where(np.isin(x, t), res, 0.0)
         fres = np.linalg.norm(basis_matrix(knots, fixed_t) @ poles - fixed_p, axis=1)
         if res.max() <= tol and fres.max() <= 1e-9 * scale:
             return knots, poles
         bounds = np.concatenate([[0.0], interior, [1.0]])
-        bad = np.unique(np.clip(np.searchsorted(bounds, x[res > tol], side="right") - 1, 0, len(bounds) - 2))
+        # refine where the polyline is missed, and around nodes the curve cannot pass through yet
+        # (two nodes close together on one curve need a knot between them)
+        missed = np.concatenate([x[res > tol], fixed_t[fres > 1e-9 * scale]])
+        bad = np.unique(np.clip(np.searchsorted(bounds, missed, side="right") - 1, 0, len(bounds) - 2))
         new = 0.5 * (bounds[bad] + bounds[bad + 1])
         new = new[new - bounds[bad] > 1e-9]
         if len(new) == 0:

@@ -15,12 +15,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.errors import FitError
+from ..core.errors import FitError, InvalidOptionError
 from ..core.types import FloatArray, Tolerances
 from ._occ import Part, Vector
 from .curves import constant_curve, fit_points, fit_polyline, join_side, unit_segment
 from .faces import coons_surface
 
+CONTINUITIES = ("G0", "G1")
+"""G0: the paper's Coons sub-patches as they are; G1: tangent-continuous seams (issue 9, cad.g1)."""
 SEW_TOL_MM = 1e-6
 DEGENERATE_MM = 1e-9
 EDGE_FIT_FRACTION = 0.5
@@ -65,13 +67,19 @@ class ShellResult:
     shape       : the sewn Part.Shell (or a Compound if OCC could not make one shell; see `valid`)
     faces       : FaceInfo per region, in network.regions() order
     edge_curves : edge_id -> Part.BSplineCurve on [0, 1], fitted once
-    timings_s   : {'fit_edges': .., 'faces': .., 'sew': ..}
+    timings_s   : {'fit_edges': .., 'faces': .., 'sew': ..} (+ 'g1' in G1 mode)
+    continuity  : "G0" (exact Coons faces) or "G1" (cad.g1: flux-corrected faces, same boundaries)
+    sharp_edges : ids of interior edges kept sharp in G1 mode (kinked strokes); empty in G0
+    g0_faces    : in G1 mode, the G0 FaceInfos the G1 faces were made from (same order); else ()
     """
 
     shape: object
     faces: tuple
     edge_curves: dict
     timings_s: dict = field(default_factory=dict)
+    continuity: str = "G0"
+    sharp_edges: frozenset = frozenset()
+    g0_faces: tuple = ()
 
 
 def side_parameter(side_points: FloatArray, side_params: FloatArray, point: FloatArray) -> float:
@@ -111,6 +119,10 @@ def _curve_chain(edges: list) -> list | None:
     return chain
 
 
+KINK_DEGREES = 3.0
+"""A network curve turning by more than this at a node is fitted with a C0 knot there."""
+
+
 def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int) -> dict:
     """Fit one network curve (a chain of edges) once, through all its nodes; cut it into the edges.
     The curve parameter is the cumulative pre-image (uv) length, which is how the network
@@ -127,7 +139,17 @@ def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int) -> dict:
         fixed[float(cum[k])] = nodes[e.node1 if rev else e.node0]
         fixed[float(cum[k + 1])] = nodes[e.node0 if rev else e.node1]
     fixed[0.0], fixed[1.0] = fixed.pop(float(cum[0])), fixed.pop(float(cum[-1]))
-    curve = fit_points(np.concatenate(params), np.vstack(points), tol_mm, fixed, name=f"curve {curve_id}")
+    breaks = []
+    for k in range(1, len(chain)):
+        (a, ra), (b, rb) = chain[k - 1], chain[k]
+        pa = (a.polyline.reversed() if ra else a.polyline).points
+        pb = (b.polyline.reversed() if rb else b.polyline).points
+        din, dout = pa[-1] - pa[-2], pb[1] - pb[0]
+        cos = float(din @ dout) / max(float(np.linalg.norm(din) * np.linalg.norm(dout)), 1e-300)
+        if cos < np.cos(np.radians(KINK_DEGREES)):
+            breaks.append(float(cum[k]))
+    curve = fit_points(np.concatenate(params), np.vstack(points), tol_mm, fixed, name=f"curve {curve_id}",
+                       breaks=breaks)
     out = {}
     for k, (e, rev) in enumerate(chain):
         piece = unit_segment(curve, float(cum[k]), float(cum[k + 1]))
@@ -211,11 +233,15 @@ def make_face(surface, pieces: tuple):
     return face
 
 
-def build_shell(network, tol: Tolerances = Tolerances()) -> ShellResult:
+def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0") -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
-    Raises FitError when an edge cannot be fitted within tol.fit_mm or OCC cannot make a face.
+    continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
+    same boundary curves, before sewing. Raises InvalidOptionError for another continuity, FitError
+    when an edge cannot be fitted within tol.fit_mm or OCC cannot make a face.
     """
+    if continuity not in CONTINUITIES:
+        raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
     t0 = time.perf_counter()
     curves = fit_edges(network, tol)
     t1 = time.perf_counter()
@@ -231,10 +257,31 @@ def build_shell(network, tol: Tolerances = Tolerances()) -> ShellResult:
             raise FitError(f"OCC made an invalid face for region {region.id}; report this sketch")
         infos.append(FaceInfo(region.id, surface, face, pieces, bool(region.triangle)))
     t2 = time.perf_counter()
+    if continuity == "G1":
+        return _g1_shell(network, tuple(infos), curves, {"fit_edges": t1 - t0, "faces": t2 - t1})
     shape = sew([i.face for i in infos])
     t3 = time.perf_counter()
     return ShellResult(shape, tuple(infos), curves,
                        {"fit_edges": t1 - t0, "faces": t2 - t1, "sew": t3 - t2})
+
+
+def _g1_shell(network, g0_infos: tuple, curves: dict, timings: dict) -> ShellResult:
+    """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries, sewn."""
+    from .g1 import smooth_faces
+
+    t0 = time.perf_counter()
+    smooth, sharp = smooth_faces(g0_infos, network)
+    infos = []
+    for info, g in zip(g0_infos, smooth):
+        face = make_face(g.surface, info.sides)
+        if not face.isValid():
+            raise FitError(f"OCC made an invalid G1 face for region {info.region_id}; use continuity G0")
+        infos.append(FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
+    t1 = time.perf_counter()
+    shape = sew([i.face for i in infos])
+    t2 = time.perf_counter()
+    return ShellResult(shape, tuple(infos), curves, dict(timings, g1=t1 - t0, sew=t2 - t1),
+                       "G1", sharp, g0_infos)
 
 
 def sew(faces: list):

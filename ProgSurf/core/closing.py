@@ -125,12 +125,15 @@ def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: Floa
         k = int(np.argmin(cost))
         extension = max(pos_a[k], 0.0) + max(-pos_b[k], 0.0)
         crossing = pos_a[k] <= 0 and pos_b[k] >= 0
-        if crossing or cost[k] <= DIRECT_JOIN_RATIO * gap_ends + 1e-12 * (1 + limit):
+        ik, jk = int(i[k]), int(j[k])
+        pa = tail3[ik] + t[k] * (tail3[ik + 1] - tail3[ik])
+        pb = head3[jk] + s[k] * (head3[jk + 1] - head3[jk])
+        # a crossing in projection only is not a corner when the strokes are far apart in depth there
+        # (a ring seen edge-on): then the ends are joined in 3D below
+        apart = float(np.linalg.norm(pa - pb)) > max(2.0 * end_gap3, 1e-3 * limit)
+        if not apart and (crossing or cost[k] <= DIRECT_JOIN_RATIO * gap_ends + 1e-12 * (1 + limit)):
             if extension > limit:
                 raise _gap_error(names, extension, limit)
-            ik, jk = int(i[k]), int(j[k])
-            pa = tail3[ik] + t[k] * (tail3[ik + 1] - tail3[ik])
-            pb = head3[jk] + s[k] * (head3[jk + 1] - head3[jk])
             keep_until = len(a3) if ik == len(tail3) - 2 else ia0 + ik + 1
             keep_from = 0 if jk == 0 else jk
             what = ("cut at their crossing" if crossing else
@@ -155,30 +158,135 @@ def _gap_error(names: tuple[int, int], width: float, limit: float) -> OpenBounda
         "strokes closer together or raise gap_factor")
 
 
-def _unwrapped_turn(uv: FloatArray, centre: FloatArray) -> float:
-    ang = np.unwrap(np.arctan2(uv[:, 1] - centre[1], uv[:, 0] - centre[0]))
-    return float(ang[-1] - ang[0])
+EXACT_ORDER_MAX = 9
+"""Up to this many boundary strokes the loop order is the exact cheapest cycle; above, nearest-end
+chaining improved by 2-opt."""
+
+CLOSED_FRACTION = 0.05
+"""A stroke whose ends are closer than this fraction of its length is closed (a ring): joining it
+either way round costs the same, so its direction is chosen by the opposite side (`_orient_rings`)."""
+
+SEAM_FRACTION = 0.02
+"""Two opposite sides closer than this fraction of their length everywhere are one seam of a tube."""
+
+CORNER_SPLIT_DEG = 40.0
+"""A three-sided loop is split where one side turns by at least this much (and at least half as
+much as the loop turns at its weakest corner), far from its ends: a fourth corner drawn in one stroke."""
 
 
-def _order_strokes(strokes2d: list[FloatArray]) -> tuple[list[int], list[bool]]:
-    """Loop order and reversal flags: counter-clockwise around the centroid of the boundary points
-    (the same view the classification rays take); two strokes: join the nearer ends."""
-    k = len(strokes2d)
+def _oriented_ends(strokes3d: Sequence[FloatArray]) -> FloatArray:
+    """(k, 2, 2, 3): [stroke, reversed?, entry/exit, xyz]."""
+    e = np.array([[s[0], s[-1]] for s in strokes3d])
+    return np.stack([e, e[:, ::-1]], axis=1)
+
+
+def _cycle_cost(order: Sequence[int], flags: Sequence[bool], ends: FloatArray, penalty: float) -> float:
+    k = len(order)
+    gaps = sum(float(np.linalg.norm(ends[order[n], int(flags[n]), 1] - ends[order[(n + 1) % k], int(flags[(n + 1) % k]), 0]))
+               for n in range(k))
+    return gaps + penalty * sum(bool(f) for f in flags)
+
+
+def _exact_cycle(ends: FloatArray, penalty: float) -> tuple[list[int], list[bool]]:
+    """Cheapest cycle through all strokes, stroke 0 first and as drawn (Held-Karp over oriented
+    strokes); the cost is the sum of 3D gaps from each exit to the next entry plus `penalty` per
+    reversed stroke (so ties keep the drawing direction)."""
+    k = ends.shape[0]
+    gap = np.linalg.norm(ends[:, :, None, None, 1, :] - ends[None, None, :, :, 0, :], axis=-1)
+    # gap[a, fa, b, fb]: from the exit of a (flag fa) to the entry of b (flag fb)
+    best: dict = {(1 << 0, 0, 0): (0.0, None)}
+    for mask in range(1, 1 << k):
+        if not mask & 1:
+            continue
+        for last in range(k):
+            for fl in (0, 1):
+                entry = best.get((mask, last, fl))
+                if entry is None:
+                    continue
+                for nxt in range(1, k):
+                    if mask >> nxt & 1:
+                        continue
+                    for fn in (0, 1):
+                        cost = entry[0] + gap[last, fl, nxt, fn] + penalty * fn
+                        key = (mask | 1 << nxt, nxt, fn)
+                        if key not in best or cost < best[key][0]:
+                            best[key] = (cost, (last, fl))
+    full = (1 << k) - 1
+    last, fl = min(((j, f) for j in range(1, k) for f in (0, 1) if (full, j, f) in best),
+                   key=lambda jf: best[(full, jf[0], jf[1])][0] + gap[jf[0], jf[1], 0, 0])
+    order, flags, mask = [], [], full
+    while last is not None:
+        order.append(last)
+        flags.append(bool(fl))
+        prev = best[(mask, last, fl)][1]
+        mask &= ~(1 << last)
+        last, fl = prev if prev is not None else (None, None)
+    return order[::-1], flags[::-1]
+
+
+def _greedy_cycle(ends: FloatArray, penalty: float) -> tuple[list[int], list[bool]]:
+    """Nearest-end chaining from stroke 0 as drawn, then 2-opt: reverse any run of strokes (order
+    and directions) that shortens the cycle, until none does."""
+    k = ends.shape[0]
+    order, flags, left = [0], [False], set(range(1, k))
+    while left:
+        here = ends[order[-1], int(flags[-1]), 1]
+        j, f = min(((j, f) for j in sorted(left) for f in (0, 1)),
+                   key=lambda jf: float(np.linalg.norm(ends[jf[0], jf[1], 0] - here)) + penalty * jf[1])
+        order.append(j)
+        flags.append(bool(f))
+        left.discard(j)
+    cost = _cycle_cost(order, flags, ends, penalty)
+    improved = True
+    while improved:
+        improved = False
+        for a in range(1, k):
+            for b in range(a + 1, k + 1):
+                o2 = order[:a] + order[a:b][::-1] + order[b:]
+                f2 = flags[:a] + [not f for f in flags[a:b][::-1]] + flags[b:]
+                c2 = _cycle_cost(o2, f2, ends, penalty)
+                if c2 < cost - 1e-12 * (1.0 + cost):
+                    order, flags, cost, improved = o2, f2, c2, True
+    return order, flags
+
+
+def _vector_area(p3: FloatArray) -> FloatArray:
+    """3D vector area of a closed polyline (its direction says which way round it runs)."""
+    return 0.5 * np.cross(p3, np.roll(p3, -1, axis=0)).sum(axis=0)
+
+
+def _is_ring(p3: FloatArray) -> bool:
+    return float(np.linalg.norm(p3[-1] - p3[0])) <= CLOSED_FRACTION * chord_length(p3)
+
+
+def _orient_rings(strokes3d: Sequence[FloatArray], order: list[int], flags: list[bool]) -> list[bool]:
+    """In a loop of four, two opposite rings (closed strokes, e.g. the first and last profile of a
+    fuselage) are run in opposite directions along the loop, so that as bottom and top of the Coons
+    patch (top reversed) they turn the same way and the surface does not twist."""
+    flags = list(flags)
+    if len(order) != 4:
+        return flags
+    for a in (0, 1):
+        sa, sb = strokes3d[order[a]], strokes3d[order[a + 2]]
+        if _is_ring(sa) and _is_ring(sb):
+            va = _vector_area(sa) * (-1 if flags[a] else 1)
+            vb = _vector_area(sb) * (-1 if flags[a + 2] else 1)
+            if float(va @ vb) > 0:
+                flags[a + 2] = not flags[a + 2]
+    return flags
+
+
+def _order_strokes(strokes3d: Sequence[FloatArray], diagonal: float) -> tuple[list[int], list[bool]]:
+    """Loop order and reversal flags by end proximity in 3D: the cycle through all strokes whose
+    gaps (each stroke's end to the next one's start) add up least.  Unlike an order by angle around
+    the centroid this closes loops of any shape (L-shapes, U-shapes, tubes seen edge-on)."""
+    k = len(strokes3d)
     if k == 1:
         return [0], [False]
-    if k == 2:
-        a, b = strokes2d
-        direct = np.linalg.norm(a[-1] - b[0]) + np.linalg.norm(b[-1] - a[0])
-        flipped = np.linalg.norm(a[-1] - b[-1]) + np.linalg.norm(b[0] - a[0])
-        return [0, 1], [False, bool(flipped < direct)]
-    centre = np.concatenate(strokes2d).mean(axis=0)
-    mids = []
-    for uv in strokes2d:
-        m = point_at_length(uv, 0.5 * chord_length(uv)) - centre
-        mids.append(np.arctan2(m[1], m[0]))
-    order = [int(i) for i in np.argsort(mids, kind="stable")]
-    flags = [_unwrapped_turn(strokes2d[i], centre) < 0 for i in order]
-    return order, flags
+    ends = _oriented_ends(strokes3d)
+    penalty = 1e-9 * (1.0 + diagonal)
+    order, flags = (_exact_cycle if k <= EXACT_ORDER_MAX else _greedy_cycle)(ends, penalty)
+    return order, _orient_rings(strokes3d, order, flags)
 
 
 def _turning(loop2d: FloatArray) -> FloatArray:
@@ -271,12 +379,15 @@ def close_loop(strokes: Sequence[FloatArray], names: Sequence[int], plane, tol: 
         if not chord_length(project(s, origin, axes)) > 1e-9 * max(diagonal, 1e-300):
             raise InvalidStrokeError(
                 f"boundary stroke {name} has no length in the projection plane; draw it along the boundary")
-    order, flags = _order_strokes([project(s, origin, axes) for s in strokes])
+    order, flags = _order_strokes(strokes, diagonal)
     loop = [strokes[i][::-1] if f else strokes[i] for i, f in zip(order, flags)]
     ids = [names[i] for i in order]
     k = len(loop)
-    corners = [_close_corner(loop[n], loop[(n + 1) % k], origin, axes, limit, (ids[n], ids[(n + 1) % k]),
-                             same=k == 1) for n in range(k)]
+    try:
+        corners = [_close_corner(loop[n], loop[(n + 1) % k], origin, axes, limit, (ids[n], ids[(n + 1) % k]),
+                                 same=k == 1) for n in range(k)]
+    except OpenBoundaryError as exc:
+        raise OpenBoundaryError(f"boundary strokes {ids} (in loop order): {exc}") from None
     notes = [c.note for c in corners]
     sides = []
     for n in range(k):
@@ -299,5 +410,70 @@ def close_loop(strokes: Sequence[FloatArray], names: Sequence[int], plane, tol: 
         notes.append(note)
     else:
         closed = [ClosedSide(p, (name,), (name, 0), f) for p, name, f in sides]
-    _check_simple(closed, origin, axes)
+    if len(closed) == 3:
+        closed, note = _split_strong_corner(closed, origin, axes)
+        notes += [note] if note else []
+    seam = _seam(closed)
+    if seam:
+        notes.append(seam)
+    else:
+        try:
+            _check_simple(closed, origin, axes)
+        except OpenBoundaryError as exc:
+            raise OpenBoundaryError(f"boundary strokes {ids} (in loop order): {exc}") from None
     return closed, notes
+
+
+def _split_strong_corner(sides: list[ClosedSide], origin: FloatArray,
+                         axes: FloatArray) -> tuple[list[ClosedSide], str]:
+    """Three sides, but one stroke turns a corner in its middle (an L drawn in one go): split it
+    there, giving four sides.  The corner is the sharpest turn (in projection, over +-3 % of the
+    loop) at least a tenth of the loop away from the three corners, if it turns by at least
+    CORNER_SPLIT_DEG and at least half as much as the weakest of the three corners."""
+    pts = np.concatenate([sd.points[:-1] for sd in sides])
+    side_of = np.concatenate([np.full(len(sd.points) - 1, n) for n, sd in enumerate(sides)])
+    at = np.concatenate([[0], np.cumsum([len(sd.points) - 1 for sd in sides])])
+    uv = project(pts, origin, axes)
+    turn = _turning(uv)
+    cum = cumulative_length(np.vstack([uv, uv[:1]]))
+    total, cum = cum[-1], cum[:-1]
+    d = np.abs(cum[:, None] - cum[at[:3]][None, :])
+    far = np.min(np.minimum(d, total - d), axis=1) >= 0.1 * total
+    if total <= 0 or not far.any():
+        return sides, ""
+    cand = np.flatnonzero(far)
+    best = int(cand[np.argmax(turn[cand])])
+    weakest = float(turn[at[:3]].min())
+    if turn[best] < max(np.radians(CORNER_SPLIT_DEG), 0.5 * weakest):
+        return sides, ""
+    n = int(side_of[best])
+    cut = best - int(at[n])
+    sd = sides[n]
+    first, second = sd.points[:cut + 1], sd.points[cut:]
+    key0, key1 = sd.key, (sd.key[0], sd.key[1] + 1)
+    if sd.reversed_input:  # parts are numbered along the stroke as drawn
+        key0, key1 = key1, key0
+    parts = [ClosedSide(first, sd.source, key0, sd.reversed_input),
+             ClosedSide(second, sd.source, key1, sd.reversed_input)]
+    out = sides[:n] + parts + sides[n + 1:]
+    return out, (f"stroke {sd.source[0]} split where it turns {np.degrees(turn[best]):.0f} deg "
+                 f"(at {pts[best].round(3).tolist()}): a fourth corner")
+
+
+def _seam(sides: Sequence[ClosedSide]) -> str:
+    """A note when two opposite sides of a four-sided loop coincide in 3D (the seam of a tube, e.g.
+    the first and last guide of a fuselage); such a loop is closed in 3D but folds in any projection,
+    so it is not checked for crossings there.  Empty when there is no seam."""
+    if len(sides) != 4:
+        return ""
+    for a in (0, 1):
+        pa, pb = sides[a].points, sides[a + 2].points[::-1]
+        la, lb = chord_length(pa), chord_length(pb)
+        if la <= 0 or lb <= 0 or abs(la - lb) > 0.1 * max(la, lb):  # noise lengthens strokes
+            continue
+        t = np.linspace(0.0, 1.0, 64)
+        qa, qb = point_at_length(pa, t * la), point_at_length(pb, t * lb)
+        if float(np.linalg.norm(qa - qb, axis=1).max()) <= SEAM_FRACTION * max(la, lb):
+            return (f"sides of strokes {list(sides[a].source)} and {list(sides[a + 2].source)} coincide: "
+                    "the boundary is cut open along a seam (a tube); its projection is not checked for crossings")
+    return ""

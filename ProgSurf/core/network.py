@@ -139,8 +139,11 @@ class PatchNetwork:
     def __init__(self, bottom: FloatArray, right: FloatArray, top: FloatArray, left: FloatArray,
                  mesh_density: int = 8) -> None:
         """The base surface from a closed 4-sided boundary (bottom c0->c1, right c1->c2,
-        top c3->c2, left c0->c3), mapped to the unit square by point index (paper 2.1)."""
-        sides = [np.asarray(s, dtype=float).reshape(-1, 3) for s in (bottom, right, top, left)]
+        top c3->c2, left c0->c3), mapped to the unit square by point index (paper 2.1).
+        A side given as a Polyline keeps its own parameters instead."""
+        given = (bottom, right, top, left)
+        sides = [s.points if isinstance(s, Polyline) else np.asarray(s, dtype=float).reshape(-1, 3) for s in given]
+        params = [s.params if isinstance(s, Polyline) else None for s in given]
         self.mesh_density = int(mesh_density)
         self._nodes: dict[int, _Node] = {}
         self._edges: dict[int, _Edge] = {}
@@ -157,6 +160,8 @@ class PatchNetwork:
         ends = [(c[0], c[1]), (c[1], c[2]), (c[3], c[2]), (c[0], c[3])]
         for curve_id, (side, (a, b)) in enumerate(zip(sides, ends)):
             prm = np.linspace(0.0, 1.0, len(side)) if len(side) > 1 else np.array([0.0, 1.0])
+            if params[curve_id] is not None and len(side) > 1:
+                prm = params[curve_id]
             pts = side if len(side) > 1 else np.vstack([side, side])
             poly = _ramp(Polyline(pts, prm), self._nodes[a].xyz - pts[0], self._nodes[b].xyz - pts[-1])
             self._add_edge(a, b, curve_id, poly)
@@ -369,20 +374,38 @@ class PatchNetwork:
         corners = np.array([self._nodes[n].uv for n in ids])
         return inverse_bilinear(corners, np.atleast_2d(uv), tri)
 
-    def locate(self, uv: FloatArray) -> int:
-        """Id of the region whose polygon contains the pre-image point uv (2,)."""
-        uv = np.clip(np.asarray(uv, dtype=float), 0.0, 1.0)
-        best, best_depth = -1, -np.inf
+    def _locator(self) -> tuple:
+        """All region edges as half-planes, (start (E,2), direction (E,2), 1/length (E,)), with
+        the region id and offset of each region's run: rebuilt only when a region changed."""
+        cached = getattr(self, "_located", None)
+        key = tuple(self._regions.items())
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        starts, dirs, owners, offsets = [], [], [], []
+        count = 0
         for rid in self._regions:
             poly = self.region_polygon(rid)
-            edge = np.roll(poly, -1, axis=0) - poly
-            side = cross2(edge, uv - poly) / np.maximum(np.linalg.norm(edge, axis=1), 1e-300)
-            depth = float(side.min())
-            if depth >= 0:
-                return rid
-            if depth > best_depth:
-                best, best_depth = rid, depth
-        return best
+            starts.append(poly)
+            dirs.append(np.roll(poly, -1, axis=0) - poly)
+            owners.append(rid)
+            offsets.append(count)
+            count += len(poly)
+        a = np.concatenate(starts)
+        d = np.concatenate(dirs)
+        inv = 1.0 / np.maximum(np.linalg.norm(d, axis=1), 1e-300)
+        value = (a, d, inv, np.array(owners), np.array(offsets))
+        self._located = (key, value)
+        return value
+
+    def locate(self, uv: FloatArray) -> int:
+        """Id of the region whose polygon contains the pre-image point uv (2,) (the nearest one
+        for a point just outside every polygon)."""
+        uv = np.clip(np.asarray(uv, dtype=float), 0.0, 1.0)
+        a, d, inv, owners, offsets = self._locator()
+        side = cross2(d, uv - a) * inv
+        depth = np.minimum.reduceat(side, offsets)
+        inside = np.flatnonzero(depth >= 0)
+        return int(owners[inside[0]] if len(inside) else owners[int(np.argmax(depth))])
 
     def evaluate_uv(self, uv: FloatArray) -> FloatArray:
         """3D points of the surface at pre-image points uv (k, 2) (or (2,)); (k, 3) or (3,)."""

@@ -11,6 +11,7 @@ from typing import Optional
 
 import numpy as np
 
+from .fairing import fair_stroke, pchip
 from .errors import ProgSurfError, StrokeOutsideSurfaceError, StrokeRejectedError
 from .network import OUTER_CURVES, PatchNetwork
 from .preimage import ray_exit, segment_intersections
@@ -38,7 +39,8 @@ class StrokeRecord:
     pulled_curves : ids of earlier curves pulled to this stroke (later strokes win)
     ends    : how each end was placed: "snapped" (on/crossing a boundary) or "footpoint"
     end_offsets_mm : |Q - F| at each end placed by a footpoint (0 for snapped ends)
-    points  : (n, 3) the stroke as it was used (filtered, trimmed), or None
+    points  : (n, 3) the stroke as it was used (filtered, faired, trimmed), or None
+    fair_deviation_mm : largest distance of the filtered stroke from its faired curve
     """
 
     index: int
@@ -53,6 +55,7 @@ class StrokeRecord:
     ends: tuple = ()
     end_offsets_mm: tuple = ()
     points: Optional[FloatArray] = None
+    fair_deviation_mm: float = 0.0
 
 
 @dataclass
@@ -185,7 +188,7 @@ def _node_at(net: PatchNetwork, eid: int, t: float, xyz: FloatArray, pull: bool,
 
 
 def _line_params(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
-                 snap: float, anchors: int = 9) -> FloatArray:
+                 snap: float, anchors: int = 3) -> FloatArray:
     """Where each stroke point lies along its straight pre-image uv0 -> uv1, in [0, 1].
 
     The footpoints of a few anchor points (Eq. 2) are projected onto the line, and chord length
@@ -208,7 +211,7 @@ def _line_params(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: Float
     at = np.array(at)
     if np.any(np.diff(at) <= 1e-9):
         return chord
-    return np.interp(chord, chord[idx], at)
+    return pchip(chord[idx], at, chord)
 
 
 def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: _End, end: _End,
@@ -237,6 +240,16 @@ def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: 
     if len(t) > 2 and np.any(np.diff(t) <= 0):
         xyz = np.vstack([xyz[0], xyz[1:-1][np.diff(t[:-1]) > 0], xyz[-1]])
         t = np.concatenate([[0.0], t[1:-1][np.diff(t[:-1]) > 0], [1.0]])
+    if tol.fair_mm and (len(ext0_uv) or len(ext1_uv)) and len(xyz) >= 4:
+        # Fair the stroke with its extensions as one curve, so the joins at the footpoints
+        # carry no corner; parameters follow C1 through the ones just found.
+        at: list = []
+        fair, _ = fair_stroke(xyz, tol.fair_mm, tol.fit_mm / 4.0, original_at=at)
+        run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(fair, axis=0), axis=1))])
+        t_fair = np.clip(pchip(run[at], t, run), 0.0, 1.0)
+        t_fair[0], t_fair[-1] = 0.0, 1.0
+        if np.all(np.diff(t_fair) > 0):
+            xyz, t = fair, t_fair
     full = Polyline(xyz, t)
     work.pre_image.append(np.array([p0, p1]))
 
@@ -403,7 +416,28 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
 
     start, end = end_of(first, pts[0], "first"), end_of(last, pts[-1], "last")
     breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
-    bounds = [0] + breaks + [len(pts) - 1]
+    if breaks:
+        # A gently bent pre-image can leave a later piece running along the extension of an
+        # earlier one; then the whole stroke is taken as one straight piece instead.
+        state = net.snapshot()
+        marks = (len(work.ends), len(work.offsets), len(work.curve_ids), len(work.pre_image), set(work.pulled))
+        try:
+            _insert_pieces(net, old, pts, start, end, [0] + breaks + [len(pts) - 1], index, tol, snap,
+                           falloff, work)
+            return pts
+        except StrokeRejectedError as err:
+            if "runs along" not in str(err):
+                raise
+            net.restore(state)
+            del work.ends[marks[0]:], work.offsets[marks[1]:], work.curve_ids[marks[2]:], work.pre_image[marks[3]:]
+            work.pulled = marks[4]
+    _insert_pieces(net, old, pts, start, end, [0, len(pts) - 1], index, tol, snap, falloff, work)
+    return pts
+
+
+def _insert_pieces(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: _End, end: _End,
+                   bounds: list, index: int, tol: Tolerances, snap: float, falloff: str, work: _Work) -> None:
+    """Insert the straight pieces pts[bounds[k]:bounds[k+1]+1] one after the other."""
     for k in range(len(bounds) - 1):
         piece = pts[bounds[k]: bounds[k + 1] + 1]
         if k == 0 and len(bounds) == 2:
@@ -418,4 +452,3 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
         cid = net.new_curve_id("stroke", index)
         work.curve_ids.append(cid)
         _insert_piece(net, old, piece, s, e, cid, tol, snap, falloff, work)
-    return pts

@@ -18,6 +18,8 @@ class Tolerances:
     filter_mm : 3D distance threshold of the stroke filter (paper, section 2); None = automatic
     snap_mm   : distance under which a stroke end is taken to be on a boundary (step 2); None = automatic
     fit_mm    : how far an OCC B-spline face may lie from its Coons sub-patch
+    fair_mm   : how far a faired stroke may lie from its filtered points; None = automatic
+                (a fraction of the snap distance), 0 = no fairing
     param     : straightness tolerance of a pre-image in the unit square (step 6); the 3D stroke is
                 interpolated exactly whatever it is, so it only trades parameter quality for patches
     gap_factor: the widest boundary gap that may be closed, as a fraction of the sketch diagonal
@@ -26,6 +28,7 @@ class Tolerances:
     filter_mm: Optional[float] = None
     snap_mm: Optional[float] = None
     fit_mm: float = 0.01
+    fair_mm: Optional[float] = None
     param: float = 0.08
     gap_factor: float = 0.25
 

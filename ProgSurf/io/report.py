@@ -81,3 +81,31 @@ def write_report(report: Mapping, path: str | os.PathLike) -> None:
 def read_report(path: str | os.PathLike) -> dict:
     with open(path, encoding="utf-8") as fh:
         return json.load(fh)
+
+
+def continuity_section(continuity: str, seams: Sequence[Any], g0_seams: Sequence[Any] = (),
+                       added_time_s: float | None = None) -> dict:
+    """The report's G1 fields (issue 9) from G1SeamStat-like records (edge_id, region_a, region_b,
+    angle_max_deg, angle_median_deg, sharp, smooth_max_deg, node_spread_deg), measured on the built
+    surface and, beside it, on the G0 faces of the same strokes.
+
+    Returns {"continuity", "seam_g1": {per-seam list, max_deg, median_deg, smooth_max_deg,
+    sharp_edges}, "seam_g0": the same for G0 (when given), "g1_added_time_s"}."""
+    def summary(stats: Sequence[Any]) -> dict:
+        rows = [{"edge": int(s.edge_id), "regions": [int(s.region_a), int(s.region_b)],
+                 "angle_max_deg": float(s.angle_max_deg), "angle_median_deg": float(s.angle_median_deg),
+                 "smooth_max_deg": float(s.smooth_max_deg), "sharp": bool(s.sharp),
+                 "node_spread_deg": [float(x) for x in s.node_spread_deg]} for s in stats]
+        smooth = [r for r in rows if not r["sharp"]]
+        return {"seams": rows,
+                "max_deg": max((r["angle_max_deg"] for r in rows), default=0.0),
+                "median_deg": float(np.median([r["angle_median_deg"] for r in smooth])) if smooth else 0.0,
+                "smooth_max_deg": max((r["smooth_max_deg"] for r in smooth), default=0.0),
+                "sharp_edges": [r["edge"] for r in rows if r["sharp"]]}
+
+    out = {"continuity": str(continuity), "seam_g1" if continuity == "G1" else "seam_g0": summary(seams)}
+    if g0_seams:
+        out["seam_g0"] = summary(g0_seams)
+    if added_time_s is not None:
+        out["g1_added_time_s"] = float(added_time_s)
+    return _clean(out)

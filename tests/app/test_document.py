@@ -33,6 +33,7 @@ import numpy as np  # noqa: E402
 import ProgSurf.app.make as ps  # noqa: E402
 from ProgSurf.app import params  # noqa: E402
 from ProgSurf.core.errors import InvalidStrokeError  # noqa: E402
+from ProgSurf.core.pipeline import FAIR_FRACTION  # noqa: E402
 from ProgSurf.io import read_strokes, write_point_list  # noqa: E402
 
 V, P, R = FreeCAD.Vector, FreeCAD.Placement, FreeCAD.Rotation
@@ -40,9 +41,11 @@ SIDE = 240.0
 X1 = SIDE * 11.0 / 24.0          # stroke 1 lies over the pre-image line u = 11/24
 YZ_PLANE = R(V(1, 1, 1), 120)     # sketch x -> global y, sketch y -> global z
 XZ_PLANE = R(V(1, 0, 0), 90)      # sketch x -> global x, sketch y -> global z
-ON_SURFACE_MM = 0.05   # a stroke as the pipeline used it (filtered) vs the surface
-RAW_ON_SURFACE_MM = 0.5
 FILTER_MM, SNAP_MM = 1.5, 7.0  # the drawn stroke itself: filtering moves points a little
+# a stroke as the pipeline used it vs the surface: strokes are faired (with their extensions)
+# within Tolerances.fair_mm, automatically FAIR_FRACTION x the snap distance
+ON_SURFACE_MM = FAIR_FRACTION * SNAP_MM
+RAW_ON_SURFACE_MM = 0.5
 
 
 def add_sketch(doc, name, polylines, placement):

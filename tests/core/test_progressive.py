@@ -100,7 +100,9 @@ def test_fig11_preimage_line_and_pull_give_four_quads():
     r = build(read_strokes(EXAMPLES / "fig11_general.xyz"), boundary=4)
     first, second = r.records[4], r.records[5]
     assert first.status == second.status == "accepted"
-    assert np.allclose(first.pre_image, [[11 / 24, 0], [11 / 24, 1]], atol=1e-9)
+    # Faired boundary sides are parameterised by arc length, not by point index: on this side
+    # (uniform in x, a gentle bump in z) point 11 of 25 sits within 1e-3 of u = 11/24.
+    assert np.allclose(first.pre_image, [[11 / 24, 0], [11 / 24, 1]], atol=1e-3)
     assert second.ends == ("footpoint", "footpoint")
     assert second.pulled_curves == first.curve_ids          # the first stroke is pulled to the second
     views = r.network.regions()
@@ -108,7 +110,8 @@ def test_fig11_preimage_line_and_pull_give_four_quads():
     # the crossing node now lies on the second stroke (6 mm above the first one before)
     crossing = [e for e in r.network.edges().values() if e.curve_id in first.curve_ids]
     node_xyz = {tuple(np.round(r.network.node_xyz(n), 6)) for e in crossing for n in (e.node0, e.node1)}
-    assert min(distance_to_polyline(np.array(p), second.points) for p in node_xyz) < 1e-6
+    # (on the faired stroke: within the fairing tolerance of its drawn points)
+    assert min(distance_to_polyline(np.array(p), second.points) for p in node_xyz) < r.tol.fair_mm
     check_invariants(r.network)
 
 

@@ -1,0 +1,258 @@
+"""G1 faces: each exact G0 Coons B-spline face plus a Hermite flux correction, exact in B-spline form.
+
+ProgSurf.core.continuity gives the rule (Egorov's flux functions with the normal component removed,
+Gregory-like corner twists); this module applies it to the OCC faces of build_shell:
+
+    S1(s,r) = S0(s,r) + h1(r) db(s) + h2(r) dt(s) + h1(s) dl(r) + h2(s) dr(r)
+              - sum over corners h_i(s) h_j(r) tau_ij                    (i, j in {1, 2})
+
+S0 is the G0 face (knots refined so that the corrections have room), db..dr are B-spline fits of the
+flux corrections -(D . n) n along each side, constrained to vanish at the corners and to have the
+corner's twist tau_ij as end derivative; so the correction is zero on the boundary (the boundary poles
+are S0's: the shell stays exactly as watertight as G0) and its cross-boundary derivative is exactly
+db..dr: the two faces of a seam share the tangent plane of the common normal n(t). Where two seams
+meet at a corner their twists are averaged (compatible_twist); within the first knot span of such a
+corner the fluxes give way, which is where the remaining G1 defect sits.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import continuity as g1
+from ..core.types import FloatArray
+from ._occ import Part
+from .curves import to_array, to_vectors
+from .fit import basis_matrix
+
+MIN_SPANS = 16
+"""Each direction of a G1 face gets at least this many knot spans (uniform knots are inserted)."""
+END_KNOTS = (0.02, 0.98)
+"""Extra knots near the corners: the twist compromise stays within the first span."""
+FLUX_SAMPLES_PER_SPAN = 3
+SMOOTHING = 1e-7
+H = 1e-4
+SHARP_TAPER = 0.1
+"""Part of a seam (edge parameter) next to a sharp node over which the G1 correction fades in."""
+SIDE_PARAM = (lambda w: (w, 0.0), lambda w: (1.0, w), lambda w: (w, 1.0), lambda w: (0.0, w))
+
+
+@dataclass(frozen=True)
+class G1Face:
+    """The G1 surface of one region and what was done to it.
+
+    surface   : Part.BSplineSurface, boundary identical to the G0 face's
+    free_sides: (4,) True where the side has no seam (outer boundary or degenerate): its flux may change
+    offset_mm : largest |S1 - S0| on a grid (how far smoothing moved the face)
+    """
+
+    region_id: int
+    surface: object
+    free_sides: tuple
+    offset_mm: float
+
+
+def _refine(surface):
+    s = surface.copy()
+    for direction in ("U", "V"):
+        knots = [float(k) for k in getattr(s, f"get{direction}Knots")()]
+        cands = list(np.linspace(0.0, 1.0, MIN_SPANS + 1)[1:-1]) + list(END_KNOTS)
+        for k in cands:
+            gap = min(abs(k - q) for q in knots)
+            lim = 0.25 / MIN_SPANS if k not in END_KNOTS else 0.5 * min(k, 1.0 - k)
+            if gap > lim:
+                getattr(s, f"insert{direction}Knot")(float(k), 1, 1e-12)
+                knots.append(float(k))
+    return s
+
+
+def _full_knots(surface, direction: str) -> FloatArray:
+    ks = getattr(surface, f"get{direction}Knots")()
+    ms = getattr(surface, f"get{direction}Multiplicities")()
+    return np.repeat(np.asarray(ks, dtype=float), ms)
+
+
+def _cubic_coeffs(knots: FloatArray, fn) -> FloatArray:
+    """Coefficients of a cubic polynomial fn(t) in the clamped cubic B-spline basis `knots` (exact)."""
+    n = len(knots) - 4
+    greville = np.array([knots[i + 1:i + 4].mean() for i in range(n)])
+    c = np.linalg.solve(basis_matrix(knots, greville), fn(greville))
+    c[0] = c[-1] = 0.0
+    return c
+
+
+def _fit_flux(knots: FloatArray, w: FloatArray, target: FloatArray, weight: FloatArray,
+              tau0: FloatArray, tau1: FloatArray) -> FloatArray:
+    """B-spline coefficients (n, 3) of a flux correction: zero at both ends, end derivatives tau0,
+    tau1, least squares to target (m, 3) with weights (m,) elsewhere (+ a little smoothing)."""
+    n = len(knots) - 4
+    c = np.zeros((n, 3))
+    c[1] = tau0 * (knots[4] - knots[0]) / 3.0
+    c[n - 2] = -tau1 * (knots[n + 3] - knots[n - 1]) / 3.0
+    if n <= 4:
+        return c
+    a = basis_matrix(knots, w)
+    rhs = target - a[:, [1, n - 2]] @ c[[1, n - 2]]
+    free = a[:, 2:n - 2] * np.sqrt(weight)[:, None]
+    rhs = rhs * np.sqrt(weight)[:, None]
+    d = np.diff(np.eye(n), n=2, axis=0)
+    lam = SMOOTHING * max(float(np.sum(weight)), 1.0)
+    dfree = d[:, 2:n - 2]
+    drhs = -d[:, [1, n - 2]] @ c[[1, n - 2]]
+    lhs = np.vstack([free, np.sqrt(lam) * dfree])
+    full = np.vstack([rhs, np.sqrt(lam) * drhs])
+    c[2:n - 2] = np.linalg.lstsq(lhs, full, rcond=None)[0]
+    return c
+
+
+def _derivs(surface, s: float, r: float) -> tuple[FloatArray, FloatArray]:
+    return (np.array(tuple(surface.getDN(s, r, 1, 0))), np.array(tuple(surface.getDN(s, r, 0, 1))))
+
+
+def _normal(surface, s: float, r: float) -> FloatArray | None:
+    du, dv = _derivs(surface, s, r)
+    n = np.cross(du, dv)
+    ln = float(np.linalg.norm(n))
+    return None if ln <= 1e-6 * max(float(np.linalg.norm(du) * np.linalg.norm(dv)), 1e-300) else n / ln
+
+
+class _Seams:
+    """Which face sides are G1 seams and the common normal along each."""
+
+    def __init__(self, infos, network, sharp: frozenset):
+        self.infos = {f.region_id: f for f in infos}
+        self.edges = network.edges()
+        self.uses: dict = {}
+        for f in infos:
+            for k, pieces in enumerate(f.sides):
+                for p in pieces:
+                    self.uses.setdefault(p.edge_id, []).append((f, k, p))
+        self.sharp = frozenset(e for e in sharp if len(self.uses.get(e, ())) == 2)
+        self.seam = {e for e, u in self.uses.items() if len(u) == 2 and e not in sharp}
+        corner_normals: dict = {}
+        for f in infos:
+            ids, _ = network.region_corners(f.region_id)
+            for nid, (s, r) in zip(ids, ((0, 0), (1, 0), (1, 1), (0, 1))):
+                corner_normals.setdefault(nid, []).append(_normal(f.surface, float(s), float(r)))
+        self.node = {nid: g1.node_normal(ns) for nid, ns in corner_normals.items()}
+
+    def _node_target(self, nid: int) -> FloatArray | None:
+        """The node normal the seam's normal is pulled to at that end; None at a sharp node (the
+        corners disagree there, so the seam keeps the mean of its faces' normals)."""
+        normal, spread = self.node.get(nid, (None, 0.0))
+        return normal if spread <= g1.SHARP_NODE_DEG else None
+
+    def taper(self, edge_id: int, t: float) -> float:
+        """1, going smoothly to 0 within SHARP_TAPER of a sharp node: there the faces keep their G0
+        crease and the correction fades in (a jump would make the flux fit ring)."""
+        e = self.edges[edge_id]
+        out = 1.0
+        for nid, dist in ((e.node0, t), (e.node1, 1.0 - t)):
+            if self.node.get(nid, (None, 0.0))[1] > g1.SHARP_NODE_DEG:
+                x = min(max(dist / SHARP_TAPER, 0.0), 1.0)
+                out *= x * x * (3.0 - 2.0 * x)
+        return out
+
+    def normal(self, edge_id: int, t: float) -> FloatArray | None:
+        """Common normal of the seam at edge parameter t (node normals blended in at the ends)."""
+        (fa, ka, pa), (fb, kb, pb) = self.uses[edge_id]
+        normals = []
+        for f, k, p in ((fa, ka, pa), (fb, kb, pb)):
+            w = p.a + ((1.0 - t) if p.reversed else t) * (p.b - p.a)
+            normals.append(_normal(f.surface, *SIDE_PARAM[k](w)))
+        if normals[0] is None and normals[1] is None:
+            return None
+        na = normals[0] if normals[0] is not None else normals[1]
+        nb = normals[1] if normals[1] is not None else normals[0]
+        e = self.edges[edge_id]
+        w = pa.a + ((1.0 - t) if pa.reversed else t) * (pa.b - pa.a)
+        tangent = _derivs(fa.surface, *SIDE_PARAM[ka](w))[0 if ka in (0, 2) else 1]
+        n0, n1 = (self._node_target(e.node0), self._node_target(e.node1))
+        return g1.common_normals(na[None], nb[None], tangent[None], np.array([t]), n0, n1)[0]
+
+
+def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:
+    """Flux correction samples (m, 3) along side k of a face at side parameters w, and weights."""
+    target = np.zeros((len(w), 3))
+    weight = np.zeros(len(w))
+    for i, x in enumerate(w):
+        piece = next((p for p in info.sides[k] if p.a - 1e-12 <= x <= p.b + 1e-12), None)
+        if piece is None or piece.edge_id not in seams.seam:
+            continue
+        t = (x - piece.a) / (piece.b - piece.a)
+        t = 1.0 - t if piece.reversed else t
+        n = seams.normal(piece.edge_id, float(np.clip(t, 0.0, 1.0)))
+        if n is None:
+            continue
+        ds, dr = _derivs(info.surface, *SIDE_PARAM[k](float(x)))
+        cross = dr if k in (0, 2) else ds
+        target[i] = g1.flux_correction(cross, n) * seams.taper(piece.edge_id, float(t))
+        weight[i] = 1.0
+    return target, weight
+
+
+def smooth_face(info, network, seams: _Seams) -> G1Face:
+    """The G1 surface of one G0 FaceInfo (see the module docstring)."""
+    surface = _refine(info.surface)
+    ku, kv = _full_knots(surface, "U"), _full_knots(surface, "V")
+    side_knots = (ku, kv, ku, kv)
+    free = tuple(not any(p.edge_id in seams.seam for p in pieces) and not any(p.edge_id in seams.sharp
+                                                                            for p in pieces)
+                 for pieces in info.sides)
+    fixed = tuple(any(p.edge_id in seams.sharp for p in pieces) for pieces in info.sides)
+    data = []
+    for k in range(4):
+        kn = side_knots[k]
+        n = len(kn) - 4
+        w = np.unique(np.concatenate([np.linspace(0, 1, max(FLUX_SAMPLES_PER_SPAN * n, 64)),
+                                      [0.0, H, 1.0 - H, 1.0]]))
+        if free[k] or fixed[k]:
+            data.append((w, np.zeros((len(w), 3)), np.zeros(len(w)), np.zeros(3), np.zeros(3)))
+            continue
+        target, weight = _side_target(info, k, w, seams)
+        # A corner whose curves are not tangent-plane compatible (a kinked node) keeps its G0 value:
+        # the fit is pinned to zero there and gives way within the first knot span only.
+        d0 = (target[1] - target[0]) / H
+        d1 = (target[-1] - target[-2]) / H
+        data.append((w, target, weight, d0, d1))
+    # corner twists: (side a, end of a, side b, end of b) per corner (0,0), (1,0), (0,1), (1,1)
+    tau = {}
+    for key, (ka, ea, kb, eb) in {(1, 1): (0, 3, 3, 3), (2, 1): (0, 4, 1, 3), (1, 2): (3, 4, 2, 3),
+                                  (2, 2): (1, 4, 2, 4)}.items():
+        if fixed[ka] or fixed[kb]:    # a sharp seam keeps its G0 flux: no twist change at its ends
+            tau[key] = np.zeros(3)
+        else:
+            tau[key] = g1.compatible_twist(data[ka][ea], data[kb][eb], free[ka], free[kb])
+    ends = {0: ((1, 1), (2, 1)), 1: ((2, 1), (2, 2)), 2: ((1, 2), (2, 2)), 3: ((1, 1), (1, 2))}
+    coeffs = []
+    for k in range(4):
+        w, target, weight, _, _ = data[k]
+        t0, t1 = tau[ends[k][0]], tau[ends[k][1]]
+        if free[k]:
+            target = g1.h1(w)[:, None] * t0 + g1.h2(w)[:, None] * t1
+            weight = np.ones(len(w))
+        coeffs.append(_fit_flux(side_knots[k], w, target, np.maximum(weight, 1e-6), t0, t1))
+    h1u, h2u = _cubic_coeffs(ku, g1.h1), _cubic_coeffs(ku, g1.h2)
+    h1v, h2v = _cubic_coeffs(kv, g1.h1), _cubic_coeffs(kv, g1.h2)
+    cb, cr, ct, cl = coeffs
+    delta = (cb[:, None, :] * h1v[None, :, None] + ct[:, None, :] * h2v[None, :, None]
+             + h1u[:, None, None] * cl[None, :, :] + h2u[:, None, None] * cr[None, :, :])
+    for (i, j), t in tau.items():
+        bu = h1u if i == 1 else h2u
+        bv = h1v if j == 1 else h2v
+        delta -= bu[:, None, None] * bv[None, :, None] * t
+    poles = to_array(surface.getPoles()) + delta
+    out = Part.BSplineSurface()
+    out.buildFromPolesMultsKnots([to_vectors(row) for row in poles], surface.getUMultiplicities(),
+                                 surface.getVMultiplicities(), surface.getUKnots(), surface.getVKnots(),
+                                 False, False, 3, 3)
+    offset = float(np.linalg.norm(delta, axis=-1).max())   # convex hull bound of |S1 - S0|
+    return G1Face(info.region_id, out, free, offset)
+
+
+def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG) -> tuple[tuple, frozenset]:
+    """G1Face per G0 FaceInfo (same order), and the ids of the seams kept sharp (kinked strokes)."""
+    sharp = g1.sharp_edges(network, angle_deg)
+    seams = _Seams(infos, network, sharp)
+    return tuple(smooth_face(info, network, seams) for info in infos), sharp

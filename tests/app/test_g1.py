@@ -1,0 +1,134 @@
+"""G1 seams (issue 9) on the bundled examples and random progressive sketches: G0 and G1 built from
+the same strokes and measured side by side; G1 must meet the targets away from intended sharp
+features (found by rule: kinked strokes, sharp nodes), keep the strokes and the outer boundary, and
+stay one watertight valid shell after STEP export and re-import."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ProgSurf import cad
+from ProgSurf.core.pipeline import build
+from ProgSurf.io import read_strokes
+
+ROOT = Path(__file__).resolve().parents[2]
+SEAM_GAP_MM = 1e-7
+MAX_DEG, MEDIAN_DEG = 1.0, 0.1
+EXAMPLES = {"fig9_sections.xyz": 4, "fig11_general.xyz": 4, "clean4.xyz": None, "three_sided.xyz": None}
+
+
+def random_sketch(seed: int) -> list:
+    """Four boundary strokes on z = height(x, y) over a w x h rectangle, then 2-3 interior strokes on
+    the same surface running (a little beyond) from one side to the opposite one."""
+    rng = np.random.default_rng(seed)
+    w, h = rng.uniform(60, 160, 2)
+    a, b = rng.uniform(-0.25, 0.25, 2)
+    height = lambda x, y: a * w * np.sin(np.pi * x / w) * np.sin(np.pi * y / h) + b * x + 0.1 * a * y
+    i = np.linspace(0, 1, 25)
+    on = lambda x, y: np.c_[x, y, height(x, y)]
+    strokes = [on(w * i, 0 * i), on(w + 0 * i, h * i), on(w * i[::-1], h + 0 * i), on(0 * i, h * i[::-1])]
+    for k in range(int(rng.integers(2, 4))):
+        t = np.linspace(-0.01, 1.01, 30)
+        p0, p1 = rng.uniform(0.2, 0.8, 2)
+        if k % 2 == 0:
+            x, y = w * (p0 + (p1 - p0) * t), h * t
+        else:
+            x, y = w * t, h * (p0 + (p1 - p0) * t)
+        strokes.append(on(x, y))
+    return strokes
+
+
+class Case:
+    def __init__(self, name: str, strokes: list, boundary, tmp: Path):
+        self.name = name
+        self.result = build(strokes, boundary=boundary)
+        net = self.result.network
+        self.g0 = cad.build_shell(net, self.result.tol, continuity="G0")
+        self.g1 = cad.build_shell(net, self.result.tol, continuity="G1")
+        self.stats0 = cad.g1_seam_stats(cad.analysis.g0_view(self.g1), net)
+        self.stats1 = cad.g1_seam_stats(self.g1, net)
+        self.step = tmp / f"{name}_g1.step"
+        cad.export_step(self.g1.shape, self.step)
+        self.back = cad.read_back(self.step)
+
+
+def _cases():
+    out = [(name, bc) for name, bc in EXAMPLES.items()]
+    out += [(f"random{seed}", seed) for seed in (1, 7)]
+    return out
+
+
+@pytest.fixture(scope="module", params=_cases(), ids=lambda c: c[0])
+def case(request, tmp_path_factory):
+    name, arg = request.param
+    tmp = tmp_path_factory.mktemp("g1")
+    if name.startswith("random"):
+        return Case(name, random_sketch(arg), 4, tmp)
+    path = ROOT / "examples" / name
+    if not path.exists():
+        pytest.skip(f"example {name} not written yet")
+    return Case(path.stem, read_strokes(path), arg, tmp)
+
+
+FOLDED = ("the G0 Coons faces of three_sided's split 5-sided region fold over near a node (normals "
+          "flip by ~179 deg in G0 too); a flux correction cannot unfold them")
+
+
+def test_g0_is_measured_beside_g1_on_the_same_seams(case, request):
+    if case.name == "three_sided":
+        request.node.add_marker(pytest.mark.xfail(strict=True, reason=FOLDED))
+    assert [s.edge_id for s in case.stats0] == [s.edge_id for s in case.stats1]
+    assert case.g1.continuity == "G1" and case.g0.continuity == "G0" and not case.g0.sharp_edges
+    # the G0 faces the G1 shell was made from are the G0 shell's faces (same strokes, same network)
+    assert [f.poles for f in case.g1.g0_faces] == [f.poles for f in case.g0.faces]
+    smooth0 = max((s.smooth_max_deg for s in case.stats0 if not s.sharp), default=0.0)
+    smooth1 = max((s.smooth_max_deg for s in case.stats1 if not s.sharp), default=0.0)
+    assert smooth1 <= max(smooth0, 0.05) + 1e-9      # G1 never makes a seam worse than G0
+
+
+def test_g1_meets_the_seam_angle_targets_except_sharp_features(case, request):
+    if case.name == "three_sided":
+        request.node.add_marker(pytest.mark.xfail(strict=True, reason=FOLDED))
+    smooth = [s for s in case.stats1 if not s.sharp]
+    assert max((s.smooth_max_deg for s in smooth), default=0.0) <= MAX_DEG
+    if smooth:
+        assert float(np.median([s.angle_median_deg for s in smooth])) <= MEDIAN_DEG
+    assert all(s.angle_median_deg <= MEDIAN_DEG for s in smooth)
+
+
+def test_sharp_features_are_found_by_rule_and_kept(case):
+    for s0, s1 in zip(case.stats0, case.stats1):
+        assert s1.sharp == s0.sharp        # by rule (kinks of the curve), the same for G0 and G1
+        if s1.sharp:                       # a kinked seam keeps its G0 crease
+            assert s1.angle_max_deg == pytest.approx(s0.angle_max_deg, abs=0.05)
+        # a sharp node (corner normals spread > 1 deg) keeps its crease: G1 does not hide it
+        if max(s1.node_spread_deg) > 5.0:
+            assert s1.angle_max_deg >= 0.5 * s0.angle_max_deg
+
+
+def test_boundaries_strokes_and_outer_boundary_are_unchanged(case):
+    t = np.linspace(0.0, 1.0, 41)
+    for f0, f1 in zip(case.g0.faces, case.g1.faces):
+        for side in ((t, 0 * t), (1 + 0 * t, t), (t, 1 + 0 * t), (0 * t, t)):
+            p0 = np.array([tuple(f0.surface.value(float(s), float(r))) for s, r in zip(*side)])
+            p1 = np.array([tuple(f1.surface.value(float(s), float(r))) for s, r in zip(*side)])
+            assert np.abs(p0 - p1).max() <= 1e-9
+    fit = case.result.tol.fit_mm
+    curves = np.vstack([e.polyline.points[:: max(1, len(e.polyline.points) // 8)]
+                        for e in case.result.network.edges().values()])
+    d0, d1 = cad.point_distances(case.g0, curves), cad.point_distances(case.g1, curves)
+    assert d1.max() <= d0.max() + 1e-6      # the network curves lie on the G1 shell as on the G0 one
+    kept = [r for r in case.result.accepted if r.points is not None and len(r.points)]
+    for rec in kept[:3]:
+        pts = np.asarray(rec.points)[:: max(1, len(rec.points) // 12)]
+        assert cad.point_distances(case.g1, pts).max() <= cad.point_distances(case.g0, pts).max() + fit
+
+
+def test_g1_shell_is_watertight_and_valid_after_step_round_trip(case):
+    shape = case.g1.shape
+    assert shape.ShapeType == "Shell" and shape.isValid()
+    assert max((s.gap_max_mm for s in case.stats1), default=0.0) <= SEAM_GAP_MM
+    assert cad.shell_seam_gaps(shape)["seam_gap_max_mm"] <= SEAM_GAP_MM
+    assert case.back["faces"] == len(shape.Faces) and case.back["shells"] == 1 and case.back["valid"]
