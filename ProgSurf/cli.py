@@ -44,6 +44,14 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--continuity", choices=["G0", "G1"], default="G0",
                    help="continuity across seams: G0 the paper's Coons patches, G1 tangent-continuous "
                         "seams (kinked strokes stay sharp); default %(default)s")
+    b.add_argument("--markers", metavar="LABEL[,LABEL]",
+                   help=".c3d inputs: marker labels to draw with (default: the most-moving marker)")
+    b.add_argument("--min-duration", type=float, metavar="S",
+                   help=".c3d inputs: drop pen-down runs shorter than this (default 0.1 s)")
+    b.add_argument("--min-length", type=float, metavar="MM",
+                   help=".c3d inputs: drop pen-down runs shorter than this (default 5 mm)")
+    b.add_argument("--smooth", type=int, default=0, metavar="N",
+                   help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
     return p
 
@@ -62,13 +70,38 @@ def _check_args(args) -> Tolerances:
     return Tolerances(filter_mm=args.filter, snap_mm=args.snap, fit_mm=args.fit_tol)
 
 
-def _read(paths: Sequence[str]) -> list:
+def _use_checkout_venv() -> None:
+    """PyPI-only packages (c3d) live in the checkout's .venv, made by install.sh on this same
+    Python: make them importable when the command runs under /usr/bin/python3 (as Init.py does)."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    site = os.path.join(root, ".venv", "lib", "python{}.{}".format(*sys.version_info[:2]), "site-packages")
+    if os.path.isdir(site) and site not in sys.path:
+        sys.path.append(site)
+
+
+def _read(paths: Sequence[str], c3d_options: Optional[dict] = None) -> list:
     from .io import read_strokes
 
+    _use_checkout_venv()
     strokes = []
     for path in paths:
-        strokes.extend(read_strokes(path))
+        options = c3d_options if str(path).lower().endswith(".c3d") and c3d_options else {}
+        strokes.extend(read_strokes(path, **options))
     return strokes
+
+
+def _c3d_options(args) -> dict:
+    """Options of the motion-capture reader taken from the command line (.c3d inputs only)."""
+    options: dict = {}
+    if args.markers:
+        options["markers"] = [m.strip() for m in args.markers.split(",") if m.strip()]
+    if args.min_duration is not None:
+        options["min_duration_s"] = args.min_duration
+    if args.min_length is not None:
+        options["min_length_mm"] = args.min_length
+    if args.smooth:
+        options["smooth"] = args.smooth
+    return options
 
 
 def _write_fcstd(path: str, strokes: list, build_result, shape, boundary_count: Optional[int]) -> None:
@@ -103,7 +136,7 @@ def run_build(args, out=sys.stdout) -> dict:
     tol = _check_args(args)
     timings: dict = {}
     clock = time.perf_counter()
-    strokes = _read(args.inputs)
+    strokes = _read(args.inputs, _c3d_options(args))
     timings["read"] = time.perf_counter() - clock
 
     from .core.pipeline import build

@@ -97,3 +97,18 @@ def test_bad_input_exits_2_with_one_line(tmp_path, case):
                 "bad_option": "--fit-tol"}[case]
     assert expected in lines[0]
     assert not (tmp_path / "o.step").exists()
+
+
+def test_c3d_input_takes_marker_labels(tmp_path):
+    """A motion-capture file builds end to end with --markers; an unknown label is bad input."""
+    c3d = ROOT / "examples" / "sketch_mocap.c3d"
+    report = tmp_path / "mocap.json"
+    ok = run("build", str(c3d), "-o", str(tmp_path / "mocap.step"), "--markers", "pen",
+             "--report", str(report), "-q")
+    assert ok.returncode == 0, ok.stderr
+    data = json.loads(report.read_text())
+    assert [s["role"] for s in data["strokes"]] == ["boundary"] * 4 + ["interior"] * 2
+    assert data["faces"] >= 2
+    bad = run("build", str(c3d), "-o", str(tmp_path / "x.step"), "--markers", "NOPE")
+    assert bad.returncode == 2
+    assert "NOPE" in bad.stderr and "PEN" in bad.stderr and "Traceback" not in bad.stderr
