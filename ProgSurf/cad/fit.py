@@ -85,10 +85,6 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         lam = 1e-8 * len(x)
         poles = _solve(knots, x, data, fixed_t, fixed_p, lam, np.ones(len(x)))
         res = np.linalg.norm(basis_matrix(knots, x) @ poles - data, axis=1)
-        # The tolerance is checked at the polyline's vertices: the network polylines are dense
-        # samples of faired curves, and between vertices the chords are the polyline's own sag,
-        # not a fitting error (chasing it made knots multiply without end).
-        res = np.where(np.isin(x, t), res, 0.0)
         fres = np.linalg.norm(basis_matrix(knots, fixed_t) @ poles - fixed_p, axis=1)
         if res.max() <= tol and fres.max() <= 1e-9 * scale:
             return knots, poles

@@ -98,9 +98,9 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
 
     clock = time.perf_counter()
     sag = tol.fit_mm / 4.0
-    # Faired sides are parameterised by arc length (the resampling the issue allows beside the
-    # paper's index mapping): an index map is irregular in speed and makes the B-spline edges heavy.
-    sides = [Polyline(*fair_stroke(side, tol.fair_mm, sag)) for side in loop.sides]
+    # The sides keep the paper's mapping of equalised points to the unit square (by index);
+    # interior strokes are faired below.
+    sides = list(loop.sides)
     net = PatchNetwork(*sides)
     timings["base"] = time.perf_counter() - clock
     if progress:

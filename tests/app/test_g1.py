@@ -119,7 +119,7 @@ def test_boundaries_strokes_and_outer_boundary_are_unchanged(case):
     curves = np.vstack([e.polyline.points[:: max(1, len(e.polyline.points) // 8)]
                         for e in case.result.network.edges().values()])
     d0, d1 = cad.point_distances(case.g0, curves), cad.point_distances(case.g1, curves)
-    assert d1.max() <= d0.max() + 1e-6      # the network curves lie on the G1 shell as on the G0 one
+    assert d1.max() <= d0.max() + 1e-5      # the network curves lie on the G1 shell as on the G0 one
     kept = [r for r in case.result.accepted if r.points is not None and len(r.points)]
     for rec in kept[:3]:
         pts = np.asarray(rec.points)[:: max(1, len(rec.points) // 12)]
