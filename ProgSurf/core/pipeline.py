@@ -116,7 +116,8 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
     start_all = time.perf_counter()
     for k, i in enumerate(interior):
         clock = time.perf_counter()
-        pts = filter_stroke(arrays[i], tol.filter_mm)
+        # rounded to 1e-9 mm so that a save/reopen round trip (last-bit differences) fairs the same
+        pts = np.round(filter_stroke(arrays[i], tol.filter_mm), 9)
         faired, _ = fair_stroke(pts, tol.fair_mm, sag)
         rec = add_stroke(net, faired, i, tol, tol.snap_mm, falloff)
         records[i] = replace(rec, fair_deviation_mm=_fair_deviation(pts, faired) if len(pts) > 1 else 0.0)
