@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .strokes import cumulative_length
 from .types import FloatArray
 
 MAX_SAMPLES = 400
@@ -63,7 +64,7 @@ def _basis(t: FloatArray, m: int) -> FloatArray:
 
 
 def _chord_params(points: FloatArray) -> FloatArray:
-    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    run = cumulative_length(points)
     return run / run[-1] if run[-1] > 0 else np.linspace(0.0, 1.0, len(points))
 
 

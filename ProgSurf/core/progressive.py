@@ -14,6 +14,7 @@ import numpy as np
 from .fairing import fair_stroke, pchip
 from .errors import ProgSurfError, StrokeOutsideSurfaceError, StrokeRejectedError
 from .network import OUTER_CURVES, PatchNetwork
+from .strokes import cumulative_length
 from .preimage import ray_exit, segment_intersections
 from .types import FloatArray, Polyline, Tolerances
 
@@ -109,7 +110,7 @@ def _snap_end(net: PatchNetwork, pts: FloatArray, snap: float, segs) -> Optional
     d = np.linalg.norm(p[:, None, :] - close, axis=2)
     edges = net.edges()
     outer = np.array([edges[k].curve_id in OUTER_CURVES for k in eid])
-    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    run = cumulative_length(pts)
     limit = max(2.0 * snap, 0.15 * run[-1])
     allowed = outer[None, :] | (run[:h, None] <= limit)
     d = np.where(allowed, d, np.inf)
@@ -195,7 +196,7 @@ def _line_params(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: Float
     interpolates between them, so a crossing in the pre-image plane meets the stroke where its
     footpoint is, not where its arc length happens to be. Falls back to chord length alone when
     the anchors' projections are not in order."""
-    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    run = cumulative_length(pts)
     if run[-1] <= 0:
         raise StrokeRejectedError("it has zero length")
     chord = run / run[-1]
@@ -245,7 +246,7 @@ def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: 
         # carry no corner; parameters follow C1 through the ones just found.
         at: list = []
         fair, _ = fair_stroke(xyz, tol.fair_mm, tol.fit_mm / 4.0, original_at=at)
-        run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(fair, axis=0), axis=1))])
+        run = cumulative_length(fair)
         t_fair = np.clip(pchip(run[at], t, run), 0.0, 1.0)
         t_fair[0], t_fair[-1] = 0.0, 1.0
         if np.all(np.diff(t_fair) > 0):
@@ -382,13 +383,18 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
                         tuple(work.ends), tuple(work.offsets), np.vstack(used))
 
 
+def _snapped_end(net: PatchNetwork, snapped: tuple) -> _End:
+    """The end found by :func:`_snap_end`, on edge e at parameter t, as an _End."""
+    _, e, t, p = snapped
+    ev = net.edges()[e]
+    return _End(uv=ev.uv0 + t * (ev.uv1 - ev.uv0), xyz=p, snapped=True, edge=e, t=t)
+
+
 def _placed(net: PatchNetwork, pts: FloatArray, snap: float, which: str) -> _End:
     """The end pts[0] on the current network: snapped when it is on a boundary, else free."""
     snapped = _snap_end(net, pts, snap, _edge_segments(net))
     if snapped is not None and snapped[0] == 0:
-        _, e, t, p = snapped
-        ev = net.edges()[e]
-        return _End(uv=ev.uv0 + t * (ev.uv1 - ev.uv0), xyz=p, snapped=True, edge=e, t=t)
+        return _snapped_end(net, snapped)
     return _free_end(net, pts[0], which, snap)
 
 
@@ -410,9 +416,7 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
     def end_of(snapped, q, which):
         if snapped is None:
             return _free_end(net, q, which, snap)
-        _, e, t, p = snapped
-        ev = net.edges()[e]
-        return _End(uv=ev.uv0 + t * (ev.uv1 - ev.uv0), xyz=p, snapped=True, edge=e, t=t)
+        return _snapped_end(net, snapped)
 
     start, end = end_of(first, pts[0], "first"), end_of(last, pts[-1], "last")
     breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
