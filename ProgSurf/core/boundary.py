@@ -25,6 +25,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
+from .fairing import fair_stroke, stroke_tolerance
 from .closing import ClosedSide, close_loop, project
 from .errors import DegenerateSketchError, InvalidOptionError, OpenBoundaryError
 from .strokes import (auto_filter_threshold, chord_length, filter_stroke, resample_arclength,
@@ -264,6 +265,8 @@ class BoundaryLoop:
              counter-clockwise around it (normal ~ dP/du x dP/dv)
     source : input stroke indices making up (bottom, right, top, left)
     notes  : what was cut, extended, split and merged, in order
+    used   : {input stroke index: [(k, 3) arrays]}: the pieces of each boundary stroke kept in the
+             loop (faired, over-sketch trimmed, before any gap extension is added to them)
     """
 
     bottom: FloatArray
@@ -273,6 +276,7 @@ class BoundaryLoop:
     plane: Plane
     source: tuple[tuple[int, ...], ...] = ()
     notes: tuple[str, ...] = field(default=())
+    used: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         for name in ("bottom", "right", "top", "left"):
@@ -295,6 +299,53 @@ class BoundaryLoop:
     @property
     def sides(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         return self.bottom, self.right, self.top, self.left
+
+
+def _pieces_at_corners(points: FloatArray, degrees: float = 20.0) -> list[int]:
+    """Indices where a side turns by more than `degrees` at one vertex (stroke junctions of a merged
+    side, cut or extended corners), with both ends: these vertices are kept by `equalise_uniform`."""
+    a = points[1:-1] - points[:-2]
+    b = points[2:] - points[1:-1]
+    la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
+    cos = np.einsum("ij,ij->i", a, b) / np.maximum(la * lb, 1e-300)
+    sharp = np.flatnonzero((cos < np.cos(np.radians(degrees))) & (la > 0) & (lb > 0)) + 1
+    return [0] + [int(i) for i in sharp] + [len(points) - 1]
+
+
+def _resample_keeping_corners(points: FloatArray, n: int) -> FloatArray:
+    """n points evenly spaced in arc length along a polyline, with its corner vertices kept exactly."""
+    cuts = _pieces_at_corners(points)
+    lengths = np.array([chord_length(points[a:b + 1]) for a, b in zip(cuts[:-1], cuts[1:])])
+    segs = len(lengths)
+    total = n - 1
+    # segments per piece, proportional to length, at least one each (largest remainder)
+    share = lengths / max(lengths.sum(), 1e-300) * max(total - segs, 0)
+    count = np.floor(share).astype(int) + 1
+    rest = total - count.sum()
+    if rest > 0:
+        count[np.argsort(-(share - np.floor(share)))[:rest]] += 1
+    out = [points[:1]]
+    for (a, b), k in zip(zip(cuts[:-1], cuts[1:]), count):
+        out.append(resample_arclength(points[a:b + 1], int(k) + 1)[1:])
+    return np.vstack(out)
+
+
+def equalise_uniform(a: npt.ArrayLike, b: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Opposite sides with equal point counts, both evenly spaced in arc length (corners kept).
+
+    For faired sides (smooth curves sampled densely) this replaces the paper's midpoint insertion:
+    the index parameter of Eq. (1) then runs at an even speed along both sides, so the Coons
+    sub-patches and the B-spline edges fitted to them stay light."""
+    a2 = np.array(a, dtype=float).reshape(-1, 3)
+    b2 = np.array(b, dtype=float).reshape(-1, 3)
+    n = max(len(a2), len(b2), len(_pieces_at_corners(a2)), len(_pieces_at_corners(b2)), 2)
+    out = []
+    for side in (a2, b2):
+        if np.all(side == side[0]):               # the degenerate top of a triangle
+            out.append(np.repeat(side[:1], n, axis=0))
+        else:
+            out.append(_resample_keeping_corners(side, n))
+    return out[0], out[1]
 
 
 BoundarySpec = Union[None, int, Sequence[int]]
@@ -347,9 +398,23 @@ def make_boundary(
         chosen, _ = classify_strokes(filtered, plane)
         notes.append(f"rays from the centroid found boundary strokes {chosen}")
     interior = sorted(set(range(len(arrays))) - set(chosen))
+    faired = bool(tol.fair_mm and tol.fair_mm > 0 and tol.snap_mm)
+    if faired:
+        # Curve fairness beyond the paper: each boundary stroke becomes a light cubic B-spline
+        # within its own tolerance (raised to a few times its jitter), sampled densely.
+        sag = tol.fit_mm / 4.0
+        for i in chosen:
+            ftol = stroke_tolerance(filtered[i], tol.fair_mm, tol.snap_mm)
+            # rounded to 1e-9 mm: a save/reopen round trip (last-bit differences) fairs the same
+            filtered[i] = fair_stroke(np.round(filtered[i], 9), ftol, sag)[0]
+        notes.append("faired boundary strokes (Kamiya & Aoyama / Mullineux fairness, see core.fairing)")
     sides, close_notes = close_loop([filtered[i] for i in chosen], chosen, plane, tol, diagonal)
     notes += close_notes
     loop = _orient_to_first_stroke(sides)
+    used: dict = {}
+    for side in loop:
+        if len(side.source) == 1:
+            used.setdefault(side.source[0], []).append(side.points)
     pts = [s.points for s in loop]
     sources = [s.source for s in loop]
     if len(loop) > 4:
@@ -363,11 +428,12 @@ def make_boundary(
         notes.append(f"three-sided boundary: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         sources.insert(2, ())
     s0, s1, s2, s3 = merge_to_four(pts, plane)
-    bottom, top = equalise(s0, s2[::-1])
-    right, left = equalise(s1, s3[::-1])
+    even = equalise_uniform if faired else equalise
+    bottom, top = even(s0, s2[::-1])
+    right, left = even(s1, s3[::-1])
     area_normal = _loop_normal(np.concatenate([s0, s1[1:], s2[1:], s3[1:-1]]), plane)
     out_plane = plane if area_normal >= 0 else plane.flipped()
-    return BoundaryLoop(bottom, right, top, left, out_plane, tuple(sources), tuple(notes)), interior
+    return BoundaryLoop(bottom, right, top, left, out_plane, tuple(sources), tuple(notes), used), interior
 
 
 def _orient_to_first_stroke(sides: list[ClosedSide]) -> list[ClosedSide]:

@@ -18,6 +18,14 @@ from .types import FloatArray
 MAX_SAMPLES = 400
 """At most about this many samples per faired stroke (the sag target gives way beyond it)."""
 
+NOISE_SIGMAS = 4.0
+"""A stroke's fairing tolerance is at least this many times its estimated point jitter, so that the
+fair curve does not chase the noise (within the cap below)."""
+
+NOISE_CAP = 0.5
+"""...but never more than this fraction of the snap distance: a faired stroke still counts as on
+the surface."""
+
 CORNER_DEGREES = 50.0
 """A stroke turning by more than this at one point (over its neighbours) has an intended corner."""
 
@@ -63,6 +71,26 @@ def _basis(t: FloatArray, m: int) -> FloatArray:
     return b
 
 
+def jitter(points: FloatArray) -> float:
+    """Robust estimate of the point jitter (sigma, mm) of a stroke: each interior point's offset from
+    the midpoint of its neighbours has per-axis variance 1.5 sigma^2 under isotropic noise, and its
+    squared length a median of about 2.366 x that (chi-square with 3 degrees of freedom). A smooth
+    stroke drawn with points a filter distance apart gives almost zero (its curvature term is tiny)."""
+    pts = np.asarray(points, dtype=float)
+    if len(pts) < 5:
+        return 0.0
+    e = pts[1:-1] - 0.5 * (pts[:-2] + pts[2:])
+    return float(np.sqrt(np.median(np.einsum("ij,ij->i", e, e)) / (1.5 * 2.366)))
+
+
+def stroke_tolerance(points: FloatArray, fair_mm: float, snap_mm: float) -> float:
+    """The fairing tolerance for one stroke: fair_mm, raised to NOISE_SIGMAS x its jitter (capped
+    at NOISE_CAP x snap_mm). fair_mm <= 0 turns fairing off."""
+    if not fair_mm or fair_mm <= 0:
+        return 0.0
+    return float(max(fair_mm, min(NOISE_SIGMAS * jitter(points), NOISE_CAP * snap_mm)))
+
+
 def _chord_params(points: FloatArray) -> FloatArray:
     run = cumulative_length(points)
     return run / run[-1] if run[-1] > 0 else np.linspace(0.0, 1.0, len(points))
@@ -74,8 +102,10 @@ def fit_cubic(points: FloatArray, tol: float) -> tuple[FloatArray, int]:
     pts = np.asarray(points, dtype=float)
     n = len(pts)
     t = _chord_params(pts)
+    if n < 4:                                 # too few points for a cubic: the straight chord
+        return np.linspace(pts[0], pts[-1], 4), 4
     best = None
-    for m in range(4, max(5, n + 1)):
+    for m in range(4, n + 1):
         b = _basis(t, m)
         ctrl = np.zeros((m, 3))
         ctrl[0], ctrl[-1] = pts[0], pts[-1]
@@ -105,15 +135,40 @@ def _max_curvature(dense: FloatArray) -> float:
     return float((np.arccos(cos) / (0.5 * (length[:-1] + length[1:]))).max())
 
 
-def _corners(points: FloatArray) -> list[int]:
-    """Indices of sharp turns (intended corners) in a stroke."""
-    if len(points) < 5:
+def _corners(points: FloatArray, tol: float = 0.0) -> list[int]:
+    """Indices of sharp turns (intended corners) in a stroke: the direction turns by more than
+    CORNER_DEGREES between chords reaching at least 4 x tol (and one point) to either side, so that
+    jitter within the fairing tolerance is not taken for a corner; one index per corner."""
+    n = len(points)
+    if n < 5:
         return []
-    a = points[1:-1] - points[:-2]
-    b = points[2:] - points[1:-1]
+    run = cumulative_length(points)
+    reach = 4.0 * tol
+    idx = np.arange(1, n - 1)
+    back = np.minimum(np.searchsorted(run, run[idx] - reach, side="right") - 1, idx - 1)
+    ahead = np.maximum(np.searchsorted(run, run[idx] + reach, side="left"), idx + 1)
+    ok = (back >= 0) & (ahead <= n - 1)
+    idx, back, ahead = idx[ok], back[ok], ahead[ok]
+    a = points[idx] - points[back]
+    b = points[ahead] - points[idx]
     cos = np.einsum("ij,ij->i", a, b) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
-    sharp = np.flatnonzero(cos < np.cos(np.radians(CORNER_DEGREES))) + 1
-    return [int(i) for i in sharp if 2 <= i <= len(points) - 3]
+    turn = np.arccos(np.clip(cos, -1.0, 1.0))
+    sharp = turn > np.radians(CORNER_DEGREES)
+    out: list[int] = []
+    k = 0
+    while k < len(idx):                       # one corner per run of sharp indices: its sharpest
+        if not sharp[k]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < len(idx) and sharp[j + 1]:
+            j += 1
+        best = k + int(np.argmax(turn[k:j + 1]))
+        i = int(idx[best])
+        if 2 <= i <= n - 3 and (not out or i - out[-1] >= 3):
+            out.append(i)
+        k = j + 1
+    return out
 
 
 def fair_stroke(points: FloatArray, tol: float, sag: float, keep_index: bool = False,
@@ -136,7 +191,7 @@ def fair_stroke(points: FloatArray, tol: float, sag: float, keep_index: bool = F
             original_at.extend(range(n))
         prm = np.linspace(0.0, 1.0, n) if keep_index else _chord_params(pts)
         return pts.copy(), prm
-    cuts = [0] + _corners(pts) + [n - 1]
+    cuts = [0] + _corners(pts, tol) + [n - 1]
     out_pts, out_prm = [pts[:1]], [np.zeros(1)]
     original = [0]                      # where each input point lands in the output
     for a, b in zip(cuts[:-1], cuts[1:]):

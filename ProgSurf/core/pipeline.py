@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .boundary import BoundaryLoop, make_boundary
-from .fairing import fair_stroke
+from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
 from .strokes import auto_filter_threshold, filter_stroke, sketch_diagonal, validate_stroke
@@ -73,6 +73,26 @@ def _fair_deviation(original: np.ndarray, faired: np.ndarray) -> float:
     return float(d.min(axis=1).max())
 
 
+def _kept_points(raw: np.ndarray, parts: list) -> np.ndarray:
+    """The points of a boundary stroke that lie along the pieces kept in the loop: a point whose
+    nearest point on every kept piece is one of its ends lies on trimmed over-sketch (or beyond a
+    gap), not on the surface's edge, and is left out."""
+    if not parts:
+        return raw
+    keep = np.zeros(len(raw), dtype=bool)
+    for piece in parts:
+        a, b = piece[:-1], piece[1:]
+        ab = b - a
+        ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+        w = np.clip(np.einsum("kij,ij->ki", raw[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
+        d = np.linalg.norm(a[None] + w[..., None] * ab[None] - raw[:, None, :], axis=2)
+        j = d.argmin(axis=1)
+        wj = w[np.arange(len(raw)), j]
+        at_end = ((j == 0) & (wj <= 0.0)) | ((j == len(ab) - 1) & (wj >= 1.0))
+        keep |= ~at_end
+    return raw[keep] if keep.any() else raw
+
+
 def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
           tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
           falloff: str = "linear") -> BuildResult:
@@ -112,14 +132,15 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
         if i not in interior:
             note = "boundary side" if i in used else "boundary stroke not used in the closed loop"
             records[i] = StrokeRecord(i, "boundary", "accepted" if i in used else "rejected", note,
-                                      points=arrays[i])
+                                      points=_kept_points(arrays[i], loop.used.get(i, [])))
     start_all = time.perf_counter()
     for k, i in enumerate(interior):
         clock = time.perf_counter()
         # rounded to 1e-9 mm so that a save/reopen round trip (last-bit differences) fairs the same
         pts = np.round(filter_stroke(arrays[i], tol.filter_mm), 9)
-        faired, _ = fair_stroke(pts, tol.fair_mm, sag)
-        rec = add_stroke(net, faired, i, tol, tol.snap_mm, falloff)
+        stol = replace(tol, fair_mm=stroke_tolerance(pts, tol.fair_mm, tol.snap_mm))
+        faired, _ = fair_stroke(pts, stol.fair_mm, sag)
+        rec = add_stroke(net, faired, i, stol, tol.snap_mm, falloff)
         records[i] = replace(rec, fair_deviation_mm=_fair_deviation(pts, faired) if len(pts) > 1 else 0.0)
         timings[f"stroke {i}"] = time.perf_counter() - clock
         if progress:

@@ -16,7 +16,8 @@ from ProgSurf.io import read_strokes
 ROOT = Path(__file__).resolve().parents[2]
 SEAM_GAP_MM = 1e-7
 MAX_DEG, MEDIAN_DEG = 1.0, 0.1
-EXAMPLES = {"fig9_sections.xyz": 4, "fig11_general.xyz": 4, "clean4.xyz": None, "three_sided.xyz": None}
+EXAMPLES = {"fig9_sections.xyz": 4, "fig11_general.xyz": 4, "clean4.xyz": None, "three_sided.xyz": None,
+            "rough4.xyz": None, "fig10_five_sided.xyz": None}
 
 
 def random_sketch(seed: int) -> list:
@@ -72,13 +73,7 @@ def case(request, tmp_path_factory):
     return Case(path.stem, read_strokes(path), arg, tmp)
 
 
-FOLDED = ("the G0 Coons faces of three_sided's split 5-sided region fold over near a node (normals "
-          "flip by ~179 deg in G0 too); a flux correction cannot unfold them")
-
-
 def test_g0_is_measured_beside_g1_on_the_same_seams(case, request):
-    if case.name == "three_sided":
-        request.node.add_marker(pytest.mark.xfail(strict=True, reason=FOLDED))
     assert [s.edge_id for s in case.stats0] == [s.edge_id for s in case.stats1]
     assert case.g1.continuity == "G1" and case.g0.continuity == "G0" and not case.g0.sharp_edges
     # the G0 faces the G1 shell was made from are the G0 shell's faces (same strokes, same network)
@@ -89,8 +84,6 @@ def test_g0_is_measured_beside_g1_on_the_same_seams(case, request):
 
 
 def test_g1_meets_the_seam_angle_targets_except_sharp_features(case, request):
-    if case.name == "three_sided":
-        request.node.add_marker(pytest.mark.xfail(strict=True, reason=FOLDED))
     smooth = [s for s in case.stats1 if not s.sharp]
     assert max((s.smooth_max_deg for s in smooth), default=0.0) <= MAX_DEG
     if smooth:
@@ -99,8 +92,6 @@ def test_g1_meets_the_seam_angle_targets_except_sharp_features(case, request):
 
 
 def test_sharp_features_are_found_by_rule_and_kept(case, request):
-    if case.name == "three_sided":
-        request.node.add_marker(pytest.mark.xfail(strict=False, reason=FOLDED))
     for s0, s1 in zip(case.stats0, case.stats1):
         assert s1.sharp == s0.sharp        # by rule (kinks of the curve), the same for G0 and G1
         if s1.sharp:                       # a kinked seam keeps its G0 crease
@@ -125,7 +116,10 @@ def test_boundaries_strokes_and_outer_boundary_are_unchanged(case):
     kept = [r for r in case.result.accepted if r.points is not None and len(r.points)]
     for rec in kept[:3]:
         pts = np.asarray(rec.points)[:: max(1, len(rec.points) // 12)]
-        assert cad.point_distances(case.g1, pts).max() <= cad.point_distances(case.g0, pts).max() + fit
+        # a rough stroke's raw points lie up to its fairing tolerance beside the curve: G1 may move
+        # the surface near them by more than the fit tolerance, but never beyond the snap distance
+        d0, d1 = cad.point_distances(case.g0, pts).max(), cad.point_distances(case.g1, pts).max()
+        assert d1 <= max(d0 + fit, case.result.tol.snap_mm)
 
 
 def test_g1_shell_is_watertight_and_valid_after_step_round_trip(case):
