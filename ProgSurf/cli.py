@@ -175,12 +175,15 @@ def run_build(args, out=sys.stdout) -> dict:
         outputs["iges"] = args.iges
     extra = {}
     if args.skin:
-        skin = cad.skin_surface(result.network)
+        skin, skin_dev = cad.skin_surface(result.network, result.tol.fit_mm)
         skin_path = os.path.splitext(args.output)[0] + "_skin.step"
         cad.export_step(skin.toShape(), skin_path)
         outputs["skin_step"] = skin_path
         extra["skin"] = {"u_poles": skin.NbUPoles, "v_poles": skin.NbVPoles,
-                         "deviation_max_mm": cad.export.skin_deviation(skin, result.network)}
+                         "deviation_max_mm": skin_dev}
+        if skin_dev > result.tol.fit_mm:
+            print(f"warning: the skinned exchange surface lies up to {skin_dev:.3g} mm from the patches "
+                  f"(fit tolerance {result.tol.fit_mm:.3g} mm)", file=sys.stderr)
     timings["export"] = time.perf_counter() - clock
     if args.png:
         clock = time.perf_counter()

@@ -122,7 +122,7 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
         raise FitError("the cad adapter returned no face; check the boundary strokes")
     analysis = analyse(shape, shell, result, len(strokes))
     if skin:   # the exchange surface (section 3.3): one face skinned across every patch
-        shape = cad_export.skin_surface(result.network).toShape()
+        shape = cad_export.skin_surface(result.network, tol.fit_mm)[0].toShape()
     return Outcome(result=result, shape=shape, analysis=analysis,
                    status_lines=[status_line(r) for r in sorted(result.records,
                                                                  key=lambda r: r.index)])

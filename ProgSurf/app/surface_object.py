@@ -12,6 +12,8 @@ reported on the Report view and in ``LastError`` and the previous valid Shape is
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import FreeCAD
 import Part
 
@@ -93,7 +95,7 @@ class SurfaceProxy:
     # -- recompute -------------------------------------------------------------------------
     def strokes(self, obj) -> list:
         """All input strokes in pipeline order: Boundary list, then Interior list."""
-        return list(obj.Boundary) + list(obj.Interior)
+        return input_strokes(obj)
 
     def tolerances(self, obj) -> Tolerances:
         """The object's tolerances as the core's one Tolerances value (0 -> automatic)."""
@@ -157,6 +159,46 @@ class SurfaceProxy:
 def is_surface(obj) -> bool:
     """True for a ProgSurf progressive surface feature."""
     return bool(obj is not None and getattr(obj, "Type", "") == TYPE)
+
+
+def input_strokes(obj) -> list:
+    """A surface's input strokes in pipeline order: Boundary list, then Interior list."""
+    return list(obj.Boundary) + list(obj.Interior)
+
+
+@dataclass(frozen=True)
+class StrokeState:
+    """What the last recompute did with one input stroke: one parsed ``StrokeStatus`` line.
+
+    stroke : the Stroke feature (Boundary list, then Interior list, as the pipeline saw them)
+    role   : "boundary" or "interior" (with AutoBoundary: as classified, paper section 2)
+    status : "accepted" or "rejected"
+    reason : why it was rejected, or a short note of what was done ("" if none)
+    """
+
+    stroke: object
+    role: str
+    status: str
+    reason: str
+
+
+def stroke_states(obj) -> list[StrokeState]:
+    """The surface's ``StrokeStatus`` lines paired with its input strokes, in input order.
+
+    Interior strokes come in drawing order (the order the pipeline adds them, step 4-10).
+    After a failed recompute (``LastError`` set) the lines still describe the last successful
+    build, whose stroke list may differ from the current one: the result is then empty.
+    """
+    if obj.LastError:
+        return []
+    strokes = input_strokes(obj)
+    states = []
+    for line in obj.StrokeStatus:
+        index, role, status, *reason = line.split(" ", 3)
+        if int(index) < len(strokes):
+            states.append(StrokeState(strokes[int(index)], role, status,
+                                      reason[0] if reason else ""))
+    return states
 
 
 def release_unused_strokes(doc) -> None:

@@ -91,11 +91,12 @@ def read_back(path: str | os.PathLike, bop_check: bool = False, points: str | os
     return json.loads(lines[-1])
 
 
-def skin_surface(network, sections: int = 17, samples: int = 41):
-    """One B-spline surface skinned through u-direction section curves sampled across all patches
-    (Qin & Wright section 3.3: a single surface for data exchange). Section j is the curve
-    u -> network.evaluate_uv(u, v_j), v_j uniform in [0, 1]; each is interpolated with the same
-    parameters and OCC skins them (BSplineSurface.buildFromNSections)."""
+SKIN_LADDER = ((17, 41), (33, 81), (65, 129))
+"""(sections, samples per section) tried in turn by :func:`skin_surface` until the skin is within
+the tolerance."""
+
+
+def _skin(network, sections: int, samples: int):
     u = np.linspace(0.0, 1.0, samples)
     curves = []
     for v in np.linspace(0.0, 1.0, sections):
@@ -111,15 +112,32 @@ def skin_surface(network, sections: int = 17, samples: int = 41):
     return surface
 
 
-def skin_deviation(surface, network, n: int = 21) -> float:
-    """Largest distance between the skinned surface and the network on an n x n grid of the unit square."""
+def skin_surface(network, tol_mm: float = 0.01):
+    """One B-spline surface skinned through u-direction section curves sampled across all patches
+    (Qin & Wright section 3.3: a single surface for data exchange). Section j is the curve
+    u -> network.evaluate_uv(u, v_j), v_j uniform in [0, 1]; each is interpolated with the same
+    parameters and OCC skins them (BSplineSurface.buildFromNSections). Sections are doubled
+    (SKIN_LADDER) until the skin lies within tol_mm of the network (:func:`skin_deviation`).
+    Returns (surface, deviation_mm): the last, finest skin when none is within tol_mm."""
+    for sections, samples in SKIN_LADDER:
+        surface = _skin(network, sections, samples)
+        dev = skin_deviation(surface, network)
+        if dev <= tol_mm:
+            break
+    return surface, dev
+
+
+def skin_deviation(surface, network, n: int = 31) -> float:
+    """Largest distance from the network's points on an n x n grid of the unit square to the skinned
+    surface (each point projected onto it: the skin's own v parameter is not the network's)."""
     g = np.linspace(0.0, 1.0, n)
     uu, vv = np.meshgrid(g, g, indexing="ij")
     ref = np.asarray(network.evaluate_uv(np.stack([uu.ravel(), vv.ravel()], axis=1)), dtype=float)
-    u0, u1, v0, v1 = surface.bounds()
-    got = np.array([tuple(surface.value(u0 + a * (u1 - u0), v0 + b * (v1 - v0)))
-                    for a, b in zip(uu.ravel(), vv.ravel())])
-    return float(np.linalg.norm(got - ref, axis=1).max())
+    worst = 0.0
+    for p in to_vectors(ref):
+        a, b = surface.parameter(p)
+        worst = max(worst, (surface.value(a, b) - p).Length)
+    return float(worst)
 
 
 def _main(argv: list[str]) -> int:

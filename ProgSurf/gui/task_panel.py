@@ -1,6 +1,7 @@
 """Task panel of the progressive surface: pick or confirm the boundary strokes, set the
-tolerances, and watch a live preview. Creating or editing is one undo transaction: OK commits
-it, Cancel aborts it (a new surface disappears again).
+tolerances and the continuity, and watch a live preview, with what happened to each interior
+stroke. Creating or editing is one undo transaction: OK commits it, Cancel aborts it (a new
+surface disappears again).
 
 ``CURRENT`` holds the open panel, so tests can drive it (``CURRENT.accept()``).
 """
@@ -12,6 +13,7 @@ from PySide import QtCore, QtGui
 
 from ProgSurf.app import make
 from ProgSurf.app.stroke_object import is_stroke
+from ProgSurf.app.surface_object import stroke_states
 from ProgSurf.core.errors import ProgSurfError
 
 from .view_providers import icon
@@ -74,8 +76,12 @@ class SurfacePanel:
             item.setCheckState(QtCore.Qt.Checked if stroke in used else QtCore.Qt.Unchecked)
             self.list.addItem(item)
         layout.addWidget(self.list)
-        interior = ", ".join(s.Label for s in surface.Interior) or "none (use Add interior)"
-        layout.addWidget(QtGui.QLabel(f"Interior strokes, in order: {interior}"))
+        layout.addWidget(QtGui.QLabel("Interior strokes, in drawing order (later strokes win):"))
+        self.interior = QtGui.QListWidget()
+        self.interior.setSelectionMode(QtGui.QAbstractItemView.NoSelection)
+        self.interior.setToolTip("What the last recompute did with each interior stroke "
+                                 "(read-only; add strokes with Add interior)")
+        layout.addWidget(self.interior)
 
         form = QtGui.QFormLayout()
         self.spins = {}
@@ -89,6 +95,14 @@ class SurfacePanel:
             spin.setValue(getattr(surface, name))
             form.addRow(label, spin)
             self.spins[name] = spin
+        self.continuity = None
+        if "Continuity" in surface.PropertiesList:
+            self.continuity = QtGui.QComboBox()
+            self.continuity.addItems(list(surface.getEnumerationsOfProperty("Continuity")))
+            self.continuity.setCurrentIndex(self.continuity.findText(surface.Continuity))
+            self.continuity.setToolTip("G0: the paper's Coons sub-patches; G1: tangent-continuous "
+                                       "seams (kinked strokes and outer corners stay sharp)")
+            form.addRow("Continuity across seams", self.continuity)
         self.skin = QtGui.QCheckBox("Exchange surface (skin, paper 3.3)")
         self.skin.setChecked(surface.Skin)
         form.addRow(self.skin)
@@ -106,6 +120,8 @@ class SurfacePanel:
         self.preview.toggled.connect(self.changed)
         for spin in self.spins.values():
             spin.valueChanged.connect(self.changed)
+        if self.continuity is not None:
+            self.continuity.currentIndexChanged.connect(self.changed)
         self.show_status()
 
     # -- values -> object ------------------------------------------------------------------
@@ -126,6 +142,8 @@ class SurfacePanel:
                 setattr(s, name, spin.value())
         if s.Skin != self.skin.isChecked():
             s.Skin = self.skin.isChecked()
+        if self.continuity is not None and s.Continuity != self.continuity.currentText():
+            s.Continuity = self.continuity.currentText()
 
     def changed(self, *_args) -> None:
         if self.preview.isChecked():
@@ -133,12 +151,39 @@ class SurfacePanel:
             self.doc.recompute()
             self.show_status()
 
+    # -- object -> display ------------------------------------------------------------------
     def show_status(self) -> None:
+        """Show the surface's last recompute: patches, G1 defect, boundary rejections, error."""
         s = self.surface
-        lines = [f"{s.PatchCount} patch(es)"] + list(s.StrokeStatus)
+        states = stroke_states(s)
+        lines = [f"{s.PatchCount} patch(es); largest seam angle (G1 defect) "
+                 f"{s.SeamAngleMax:.3g} deg"]
+        lines += [f"boundary stroke {st.stroke.Label} rejected: {st.reason}"
+                  for st in states if st.role == "boundary" and st.status == "rejected"]
         if s.LastError:
             lines.append(f"<font color='red'>{s.LastError}</font>")
         self.status.setText("<br>".join(lines))
+        self.show_interior(states)
+
+    def show_interior(self, states: list) -> None:
+        """Fill the read-only interior list: one row per interior stroke with its status."""
+        self.interior.clear()
+        rows = [(st.stroke.Label, st.status, st.reason) for st in states if st.role == "interior"]
+        if not states and self.surface.LastError:
+            rows = [(st.Label, "not built", "the last recompute failed")
+                    for st in self.surface.Interior]
+        for label, status, reason in rows:
+            item = QtGui.QListWidgetItem(QtGui.QIcon(icon("ProgSurf_Stroke")),
+                                         f"{label}: {status}" + (f" ({reason})" if reason else ""))
+            item.setFlags(QtCore.Qt.ItemIsEnabled)
+            item.setToolTip(reason or status)
+            if status != "accepted":
+                item.setForeground(QtGui.QBrush(QtGui.QColor("red")))
+            self.interior.addItem(item)
+        if not rows:
+            item = QtGui.QListWidgetItem("none (use Add interior)")
+            item.setFlags(QtCore.Qt.NoItemFlags)
+            self.interior.addItem(item)
 
     # -- task dialog protocol --------------------------------------------------------------
     def getStandardButtons(self) -> int:

@@ -112,3 +112,37 @@ def test_c3d_input_takes_marker_labels(tmp_path):
     bad = run("build", str(c3d), "-o", str(tmp_path / "x.step"), "--markers", "NOPE")
     assert bad.returncode == 2
     assert "NOPE" in bad.stderr and "PEN" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_skin_writes_one_exchange_surface_on_the_patches(tmp_path):
+    """--skin (paper section 3.3): OUT_skin.step holds one B-spline face lying within the fit
+    tolerance of the patch network, checked here independently of the command's own report."""
+    example = ROOT / "examples" / "clean4.xyz"
+    step, report = tmp_path / "c.step", tmp_path / "c.json"
+    proc = run("build", str(example), "-o", str(step), "--skin", "--report", str(report), "-q")
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads(report.read_text())
+    skin_step = Path(data["outputs"]["skin_step"])
+    assert skin_step == tmp_path / "c_skin.step"
+    import FreeCAD  # noqa: F401  (before Part)
+    import Part
+
+    from ProgSurf.core.pipeline import build
+    from ProgSurf.io import read_strokes
+
+    skin = Part.read(str(skin_step))
+    assert len(skin.Faces) == 1 and skin.isValid()
+    surface = skin.Faces[0].Surface
+    assert (surface.NbUPoles, surface.NbVPoles) == (data["skin"]["u_poles"], data["skin"]["v_poles"])
+    # the same strokes through the core give the network the skin was made from
+    net = build(read_strokes(example)).network
+    g = np.linspace(0.0, 1.0, 23)
+    uv = np.array([(a, b) for a in g for b in g])
+    dist = [skin.distToShape(Part.Vertex(FreeCAD.Vector(*map(float, p))))[0]
+            for p in np.asarray(net.evaluate_uv(uv))]
+    fit = data["tolerances"]["fit_mm"]
+    assert max(dist) <= fit + 1e-6, max(dist)
+    assert data["skin"]["deviation_max_mm"] <= fit
+    # the exchange surface spans the same area as the patches (to the skin's own deviation)
+    patches = Part.read(str(step))
+    assert skin.Area == pytest.approx(patches.Area, rel=1e-3)
