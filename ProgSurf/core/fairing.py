@@ -96,15 +96,20 @@ def _chord_params(points: FloatArray) -> FloatArray:
     return run / run[-1] if run[-1] > 0 else np.linspace(0.0, 1.0, len(points))
 
 
-def fit_cubic(points: FloatArray, tol: float) -> tuple[FloatArray, int]:
+def fit_cubic(points: FloatArray, tol: float) -> tuple[FloatArray | None, int]:
     """Least-squares cubic B-spline with end points interpolated and the fewest control points
-    (from 4 up) within tol of every point. Returns (control points (m, 3), m)."""
+    (from 4 up) within tol of every point, and between consecutive points within tol plus a quarter
+    of their chord of its midpoint (a fit that meets the points but loops between them, as an
+    interpolating spline through uneven points can, is refused).
+    Returns (control points (m, 3), m), or (None, 0) when no such fit exists."""
     pts = np.asarray(points, dtype=float)
     n = len(pts)
     t = _chord_params(pts)
     if n < 4:                                 # too few points for a cubic: the straight chord
         return np.linspace(pts[0], pts[-1], 4), 4
-    best = None
+    mid_t = 0.5 * (t[1:] + t[:-1])
+    mid_p = 0.5 * (pts[1:] + pts[:-1])
+    slack = tol + 0.25 * np.linalg.norm(np.diff(pts, axis=0), axis=1)
     for m in range(4, n + 1):
         b = _basis(t, m)
         ctrl = np.zeros((m, 3))
@@ -113,10 +118,11 @@ def fit_cubic(points: FloatArray, tol: float) -> tuple[FloatArray, int]:
         inner, *_ = np.linalg.lstsq(b[:, 1:-1], rhs, rcond=None)
         ctrl[1:-1] = inner
         err = float(np.linalg.norm(b @ ctrl - pts, axis=1).max())
-        best = ctrl
         if err <= tol:
-            break
-    return best, len(best)
+            if np.all(np.linalg.norm(_basis(mid_t, m) @ ctrl - mid_p, axis=1) <= slack):
+                return ctrl, m
+            return None, 0
+    return None, 0
 
 
 def evaluate_cubic(ctrl: FloatArray, t: FloatArray) -> FloatArray:
@@ -197,6 +203,10 @@ def fair_stroke(points: FloatArray, tol: float, sag: float, keep_index: bool = F
     for a, b in zip(cuts[:-1], cuts[1:]):
         seg = pts[a:b + 1]
         ctrl, _ = fit_cubic(seg, tol)
+        if ctrl is None:                      # no fair cubic: this piece keeps its points
+            out_pts.append(seg[1:])
+            original.extend([original[-1] + k for k in range(1, len(seg))])
+            continue
         t = _chord_params(seg)
         # Samples between consecutive points: enough that the chord sag stays under `sag`.
         curv = _max_curvature(evaluate_cubic(ctrl, np.linspace(0.0, 1.0, 201)))

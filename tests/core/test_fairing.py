@@ -1,0 +1,96 @@
+"""Stroke fairing (core.fairing) and the even equalisation of faired boundary sides (core.boundary)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ProgSurf.core.boundary import equalise_uniform
+from ProgSurf.core.fairing import (NOISE_CAP, NOISE_SIGMAS, _corners, fair_stroke, fit_cubic, jitter,
+                                   stroke_tolerance)
+from ProgSurf.core.strokes import chord_length
+
+
+def arc(n: int = 120, radius: float = 60.0, sweep: float = 1.2) -> np.ndarray:
+    a = np.linspace(0.0, sweep, n)
+    return np.c_[radius * np.cos(a), radius * np.sin(a), 5.0 * np.sin(2 * a)]
+
+
+def distance_to_polyline(p: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    a, b = poly[:-1], poly[1:]
+    ab = b - a
+    w = np.clip(np.einsum("kij,ij->ki", p[:, None] - a[None], ab) / np.einsum("ij,ij->i", ab, ab), 0, 1)
+    return np.linalg.norm(a[None] + w[..., None] * ab[None] - p[:, None], axis=2).min(axis=1)
+
+
+@pytest.mark.parametrize("sigma", [0.05, 0.15, 0.4])
+def test_jitter_estimate_recovers_the_noise_of_a_smooth_stroke(sigma):
+    rng = np.random.default_rng(3)
+    clean = arc()
+    assert jitter(clean) < 0.01
+    noisy = clean + rng.normal(0.0, sigma, clean.shape)
+    assert jitter(noisy) == pytest.approx(sigma, rel=0.3)
+
+
+def test_stroke_tolerance_rises_with_noise_and_is_capped_by_the_snap_distance():
+    rng = np.random.default_rng(4)
+    clean = arc()
+    assert stroke_tolerance(clean, 0.1, 3.0) == 0.1
+    noisy = clean + rng.normal(0.0, 0.2, clean.shape)
+    assert stroke_tolerance(noisy, 0.1, 3.0) == pytest.approx(NOISE_SIGMAS * jitter(noisy))
+    very = clean + rng.normal(0.0, 2.0, clean.shape)
+    assert stroke_tolerance(very, 0.1, 3.0) == NOISE_CAP * 3.0
+    assert stroke_tolerance(noisy, 0.0, 3.0) == 0.0          # fairing off
+
+
+def test_a_noisy_stroke_faired_at_its_own_tolerance_is_light_and_close():
+    rng = np.random.default_rng(5)
+    clean = arc()
+    noisy = clean + rng.normal(0.0, 0.15, clean.shape)
+    tol = stroke_tolerance(noisy, 0.1, 3.0)
+    ctrl, m = fit_cubic(noisy, tol)
+    assert m <= 12, m                            # the arc needs few poles, the noise is not chased
+    faired, params = fair_stroke(noisy, tol, 0.0025)
+    assert distance_to_polyline(noisy, faired).max() <= tol + 1e-9
+    assert distance_to_polyline(faired, clean).max() < 0.5 * tol  # closer to the truth than the noise
+    assert np.all(np.diff(params) > 0) and params[0] == 0.0 and params[-1] == 1.0
+
+
+def test_fairing_never_loops_between_uneven_points():
+    """Regression: through clustered points the fewest-poles fit could interpolate and swing
+    kilometres away between them (a 17-point edge 105 m long in a 100 mm sketch)."""
+    rng = np.random.default_rng(0)
+    for _ in range(300):
+        n = int(rng.integers(5, 12))
+        t = np.sort(np.r_[0.0, 1.0, rng.uniform(0, 1, n - 2) ** 3])
+        pts = np.c_[100 * t, 20 * np.sin(3 * t), rng.normal(0, 0.3, n)]
+        faired, _ = fair_stroke(pts, 0.15, 0.0025)
+        assert chord_length(faired) <= 1.25 * chord_length(pts)
+        assert distance_to_polyline(faired, pts).max() <= 0.5 * np.linalg.norm(np.diff(pts, axis=0), axis=1).max()
+
+
+def test_corners_are_found_at_the_fairing_scale_and_kept():
+    rng = np.random.default_rng(6)
+    leg = np.linspace(0.0, 40.0, 41)[:, None]
+    ell = np.vstack([leg * [1, 0, 0], [40, 0, 0] + leg[1:] * [0, 1, 0]])
+    noisy = ell + rng.normal(0.0, 0.1, ell.shape)
+    tol = stroke_tolerance(noisy, 0.1, 3.0)
+    assert _corners(noisy, tol) == [40]
+    faired, _ = fair_stroke(noisy, tol, 0.0025)
+    assert np.linalg.norm(faired - noisy[40], axis=1).min() < 1e-9   # the corner point is kept
+    straight = np.c_[np.linspace(0, 80, 81), np.zeros(81), np.zeros(81)] + rng.normal(0.0, 0.1, (81, 3))
+    assert _corners(straight, stroke_tolerance(straight, 0.1, 3.0)) == []
+
+
+def test_equalise_uniform_gives_even_spacing_equal_counts_and_keeps_corners():
+    a = arc(200)
+    leg = np.linspace(0.0, 30.0, 16)[:, None]
+    b = np.vstack([leg * [1, 0, 0], [30, 0, 0] + leg[1:] * [0, 1, 0]])     # a corner at index 15
+    ea, eb = equalise_uniform(a, b)
+    assert len(ea) == len(eb) == 200
+    for side in (ea,):
+        d = np.linalg.norm(np.diff(side, axis=0), axis=1)
+        assert d.max() / d.min() < 1.01
+    assert np.linalg.norm(eb - [30, 0, 0], axis=1).min() < 1e-12
+    assert np.allclose(eb[[0, -1]], b[[0, -1]]) and np.allclose(ea[[0, -1]], a[[0, -1]])
+    d = np.linalg.norm(np.diff(eb, axis=0), axis=1)
+    assert d.max() / d.min() < 1.1             # even on both legs (each leg gets its share)
