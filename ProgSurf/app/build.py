@@ -55,6 +55,8 @@ class Outcome:
     shape: Part.Shape
     analysis: Analysis
     status_lines: list
+    shell: object = None
+    """the cad ShellResult; pass it as `previous` to the next build_surface to reuse what is unchanged"""
 
 
 def status_line(record) -> str:
@@ -106,8 +108,11 @@ def analyse(shape: Part.Shape, shell, result, n_strokes: int) -> Analysis:
 
 
 def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin: bool = False,
-                  continuity: str = "G0") -> Outcome:
+                  continuity: str = "G0", previous=None) -> Outcome:
     """Run the pipeline and the cad adapter on stroke point lists (each (n, 3)).
+
+    previous: the `shell` of an earlier Outcome: curves and faces whose inputs are unchanged are
+    reused (cad.build_shell), so a recompute after one stroke changed refits only what it touched.
 
     boundary: None (classify automatically), or the count of leading boundary strokes.
     Raises ProgSurfError (bad input, boundary not closed, fit failure) or Part.OCCError.
@@ -116,7 +121,7 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
         raise ProgSurfError(f"Continuity {continuity!r} is not one of {', '.join(cad_shell.CONTINUITIES)}")
     result = pipeline.build([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
                             tol=tol)
-    shell = cad_shell.build_shell(result.network, tol, continuity=continuity)
+    shell = cad_shell.build_shell(result.network, tol, continuity=continuity, previous=previous)
     shape = shell.shape
     if shape.isNull() or not shape.Faces:
         raise FitError("the cad adapter returned no face; check the boundary strokes")
@@ -125,7 +130,8 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
         shape = cad_export.skin_surface(result.network, tol.fit_mm)[0].toShape()
     return Outcome(result=result, shape=shape, analysis=analysis,
                    status_lines=[status_line(r) for r in sorted(result.records,
-                                                                 key=lambda r: r.index)])
+                                                                 key=lambda r: r.index)],
+                   shell=shell)
 
 
 def face_values(surface, mode: str) -> Optional[list]:

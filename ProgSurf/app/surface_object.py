@@ -54,6 +54,7 @@ class SurfaceProxy:
         self.Object = obj
         self.result = None
         self.analysis = None
+        self.shell = None
         self.setup(obj)
 
     def setup(self, obj) -> None:
@@ -111,13 +112,15 @@ class SurfaceProxy:
         try:
             outcome = build.build_surface(
                 [stroke_object.stroke_points(s) for s in strokes], boundary,
-                self.tolerances(obj), skin=obj.Skin, continuity=obj.Continuity)
+                self.tolerances(obj), skin=obj.Skin, continuity=obj.Continuity,
+                previous=getattr(self, "shell", None))
         except (ProgSurfError, Part.OCCError) as exc:
             message = f"{obj.Label}: {exc}; the previous shape is kept"
             FreeCAD.Console.PrintError(f"ProgSurf: {message}\n")
             obj.LastError = message
             return
         self.result, self.analysis = outcome.result, outcome.analysis
+        self.shell = outcome.shell          # reused by the next recompute (not saved)
         for line, stroke in zip(outcome.status_lines, strokes):
             if " rejected" in line:
                 FreeCAD.Console.PrintWarning(f"ProgSurf: {obj.Label}: stroke {stroke.Label} "
@@ -140,6 +143,7 @@ class SurfaceProxy:
         self.Object = obj
         self.result = None
         self.analysis = None
+        self.shell = None
         self.setup(obj)
 
     def __getstate__(self) -> dict:
@@ -148,6 +152,7 @@ class SurfaceProxy:
     def __setstate__(self, state) -> None:
         self.result = None
         self.analysis = None
+        self.shell = None
 
     def dumps(self) -> dict:
         return self.__getstate__()

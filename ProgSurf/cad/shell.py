@@ -10,6 +10,7 @@ of 1e-6 mm, which only merges edges that already coincide; it cannot close a rea
 """
 from __future__ import annotations
 
+import hashlib
 import time
 from dataclasses import dataclass, field
 
@@ -71,6 +72,9 @@ class ShellResult:
     continuity  : "G0" (exact Coons faces) or "G1" (cad.g1: flux-corrected faces, same boundaries)
     sharp_edges : ids of interior edges kept sharp in G1 mode (kinked strokes); empty in G0
     g0_faces    : in G1 mode, the G0 FaceInfos the G1 faces were made from (same order); else ()
+    cache       : what a later build_shell(..., previous=this) may reuse: fitted curves and G0
+                  faces keyed by the exact content (polylines, nodes, tolerance) they were made from
+    reused      : {"curves": (reused, fitted), "faces": (reused, built)} of this build
     """
 
     shape: object
@@ -80,6 +84,8 @@ class ShellResult:
     continuity: str = "G0"
     sharp_edges: frozenset = frozenset()
     g0_faces: tuple = ()
+    cache: dict = field(default_factory=dict, repr=False, compare=False)
+    reused: dict = field(default_factory=dict, compare=False)
 
 
 def side_parameter(side_points: FloatArray, side_params: FloatArray, point: FloatArray) -> float:
@@ -160,25 +166,57 @@ def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int) -> dict:
     return out
 
 
-def fit_edges(network, tol: Tolerances) -> dict:
+def _digest(*arrays) -> bytes:
+    """A content key: the exact bytes of the arrays (float64)."""
+    h = hashlib.blake2b(digest_size=16)
+    for a in arrays:
+        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
+        h.update(b"|")
+    return h.digest()
+
+
+def _curve_key(edges: list, nodes: dict, tol_mm: float) -> tuple:
+    """What a fitted network curve depends on: its edges (ids, ends, polylines, pre-image ends)
+    and the node points it must pass through, and the tolerance."""
+    return (tol_mm,) + tuple((e.id, e.node0, e.node1, _digest(e.polyline.points, e.polyline.params,
+                                                               e.uv0, e.uv1, nodes[e.node0], nodes[e.node1]))
+                             for e in sorted(edges, key=lambda x: x.id))
+
+
+def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None) -> dict:
     """edge_id -> cubic Part.BSplineCurve on [0,1] (edge param 0 at node0). Each network curve (an
     outer side or an accepted stroke) is fitted once through all its nodes, then cut at them; a curve
-    whose edges do not form one chain is fitted edge by edge."""
+    whose edges do not form one chain is fitted edge by edge.
+
+    cache : {curve key: {edge_id: curve}} from an earlier build; a curve whose edges and nodes are
+            unchanged is taken from it instead of being fitted again. New fits are added to it.
+    stats : receives "curves": (reused, fitted)."""
     edges = network.edges()
     nodes = _node_points(edges)
     by_curve: dict = {}
     for e in edges.values():
         by_curve.setdefault(e.curve_id, []).append(e)
     tol_mm = tol.fit_mm * EDGE_FIT_FRACTION
+    cache = {} if cache is None else cache
     curves = {}
+    reused = fitted = 0
     for cid, group in by_curve.items():
+        key = ("curve", cid, _curve_key(group, nodes, tol_mm))
+        if key in cache:
+            curves.update(cache[key])
+            reused += 1
+            continue
         chain = _curve_chain(group)
         if chain is not None:
-            curves.update(_fit_curve(chain, nodes, tol_mm, cid))
-            continue
-        for e in group:
-            curves[e.id] = fit_polyline(e.polyline, tol_mm, start=nodes[e.node0], end=nodes[e.node1],
-                                        name=f"edge {e.id} (curve {cid})")
+            piece = _fit_curve(chain, nodes, tol_mm, cid)
+        else:
+            piece = {e.id: fit_polyline(e.polyline, tol_mm, start=nodes[e.node0], end=nodes[e.node1],
+                                        name=f"edge {e.id} (curve {cid})") for e in group}
+        cache[key] = piece
+        curves.update(piece)
+        fitted += 1
+    if stats is not None:
+        stats["curves"] = (reused, fitted)
     return curves
 
 
@@ -233,36 +271,60 @@ def make_face(surface, pieces: tuple):
     return face
 
 
-def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0") -> ShellResult:
+def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
+                previous: "ShellResult | None" = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
     continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
     same boundary curves, before sewing. Raises InvalidOptionError for another continuity, FitError
     when an edge cannot be fitted within tol.fit_mm or OCC cannot make a face.
+
+    previous : an earlier ShellResult of this network (or of one built from the same strokes):
+               curves and G0 faces whose inputs did not change are reused, so that after one
+               more stroke only what it touched is fitted and built again (the shell is re-sewn).
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
     t0 = time.perf_counter()
-    curves = fit_edges(network, tol)
+    old = previous.cache if previous is not None else {}
+    cache: dict = {}
+    stats: dict = {}
+    curve_cache = {k: v for k, v in old.items() if k[0] == "curve"}
+    curves = fit_edges(network, tol, curve_cache, stats)
+    cache.update(curve_cache)
     t1 = time.perf_counter()
     infos = []
+    reused = built = 0
     for region in network.regions():
         pieces = tuple(_side_pieces(side, curves) for side in region.sides)
         corners = np.asarray(region.corners_xyz, dtype=float)
-        bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
-                                    for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
-        surface = coons_surface(bottom, right, top, left)
-        face = make_face(surface, pieces)
-        if not face.isValid():
-            raise FitError(f"OCC made an invalid face for region {region.id}; report this sketch")
-        infos.append(FaceInfo(region.id, surface, face, pieces, bool(region.triangle)))
+        # the face depends on its side pieces and on the very curve objects they cut
+        key = ("face", region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
+               _digest(corners), bool(region.triangle))
+        info = old.get(key)
+        if info is None:
+            bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
+                                        for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
+            surface = coons_surface(bottom, right, top, left)
+            face = make_face(surface, pieces)
+            if not face.isValid():
+                raise FitError(f"OCC made an invalid face for region {region.id}; report this sketch")
+            info = FaceInfo(region.id, surface, face, pieces, bool(region.triangle))
+            built += 1
+        else:
+            reused += 1
+        cache[key] = info
+        infos.append(info)
     t2 = time.perf_counter()
+    counts = {"curves": stats["curves"], "faces": (reused, built)}
     if continuity == "G1":
-        return _g1_shell(network, tuple(infos), curves, {"fit_edges": t1 - t0, "faces": t2 - t1})
+        res = _g1_shell(network, tuple(infos), curves, {"fit_edges": t1 - t0, "faces": t2 - t1})
+        return ShellResult(res.shape, res.faces, res.edge_curves, res.timings_s, res.continuity,
+                           res.sharp_edges, res.g0_faces, cache, counts)
     shape = sew([i.face for i in infos])
     t3 = time.perf_counter()
     return ShellResult(shape, tuple(infos), curves,
-                       {"fit_edges": t1 - t0, "faces": t2 - t1, "sew": t3 - t2})
+                       {"fit_edges": t1 - t0, "faces": t2 - t1, "sew": t3 - t2}, cache=cache, reused=counts)
 
 
 def _g1_shell(network, g0_infos: tuple, curves: dict, timings: dict) -> ShellResult:
