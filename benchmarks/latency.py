@@ -4,12 +4,13 @@ For networks of about 1, 10, 50, 200 and 500 regions, grown with random strokes 
 surface, the NEXT stroke is timed on fresh clones of the network (the clone is not timed):
 
 - core        : ProgSurf.core.progressive.add_stroke alone;
-- full shell  : add_stroke + ProgSurf.cad.build_shell of the whole network. The CAD adapter has no
-                incremental update: it refits every edge curve, rebuilds every face and sews them all;
-- incremental (estimate): add_stroke + refitting only the network curves whose edges the stroke
-                changed + rebuilding only the faces that use them or were created. It uses the
-                adapter's per-curve and per-face helpers directly and does NOT re-sew the shell; it is
-                what an incremental adapter could cost, not a feature ProgSurf has.
+- full shell  : add_stroke + ProgSurf.cad.build_shell of the whole network from nothing: every
+                edge curve refitted, every face rebuilt, all sewn;
+- incremental : add_stroke + cad.build_shell(..., previous=the network's shell), what the document
+                object does on recompute: curves and faces whose inputs did not change are reused,
+                the others fitted and built, and the whole shell re-sewn;
+- G1          : the same incremental update with continuity G1 (the flux correction of every face
+                is recomputed: it is not incremental), to report the time G1 adds per stroke.
 """
 from __future__ import annotations
 
@@ -65,41 +66,6 @@ def fits(old, new, tol: Tolerances) -> bool:
     return True
 
 
-def incremental_update(old, new, record, old_curves: dict, tol: Tolerances) -> int:
-    """Refit the changed curves of `new` and rebuild the faces that use them or were created by
-    `record`; returns the number of faces rebuilt. No sewing (see the module docstring)."""
-    changed = _changed_curves(old, new)
-    edges = new.edges()
-    nodes = cad_shell._node_points(edges)
-    curves = {k: v for k, v in old_curves.items() if k in edges}
-    by_curve: dict = {}
-    for e in edges.values():
-        if e.curve_id in changed:
-            by_curve.setdefault(e.curve_id, []).append(e)
-    tol_mm = tol.fit_mm * cad_shell.EDGE_FIT_FRACTION
-    for cid, group in by_curve.items():
-        chain = cad_shell._curve_chain(group)
-        if chain is not None:
-            curves.update(cad_shell._fit_curve(chain, nodes, tol_mm, cid))
-        else:
-            for e in group:
-                curves[e.id] = cad.curves.fit_polyline(e.polyline, tol_mm, start=nodes[e.node0],
-                                                       end=nodes[e.node1])
-    refit_edges = {e.id for g in by_curve.values() for e in g}
-    affected = set(record.regions_created)
-    for eid, rids in new.edge_regions().items():
-        if eid in refit_edges:
-            affected.update(rids)
-    for rid in affected:
-        region = new.region(rid)
-        pieces = tuple(cad_shell._side_pieces(side, curves) for side in region.sides)
-        corners = np.asarray(region.corners_xyz, dtype=float)
-        sides = [cad_shell._side_curve(pieces[k], curves, corners[c])
-                 for k, c in ((0, 0), (1, 1), (2, 3), (3, 0))]
-        cad_shell.make_face(cad.coons_surface(*sides), pieces)
-    return len(affected)
-
-
 FIT_LADDER_MM = (0.01, 0.05, 0.2, 1.0)
 """Fit tolerances tried in turn when the adapter cannot fit a network curve within the default
 (Tolerances().fit_mm = 0.01 mm): the benchmark reports which one it took."""
@@ -142,7 +108,7 @@ def measure_latency(nets: dict, growth: dict, probes: int, shell_probes: dict, s
         base_shell, fit_mm, fit_failures = shell_with_fallback(net, tol)
         ftol = replace(tol, fit_mm=fit_mm)
         rng = np.random.default_rng(seed + 1000)
-        core, full, incr, touched, faces_rebuilt, rejected, fit_fail = [], [], [], [], [], 0, 0
+        core, full, incr, g1, touched, faces_rebuilt, rejected, fit_fail = [], [], [], [], [], [], 0, 0
         for p in range(probes):
             stroke = random_stroke(z, rng)
             work = net.clone()
@@ -156,9 +122,13 @@ def measure_latency(nets: dict, growth: dict, probes: int, shell_probes: dict, s
             touched.append(len(rec.regions_removed))
             try:
                 t2 = time.perf_counter()
-                faces_rebuilt.append(incremental_update(net, work, rec, base_shell.edge_curves, ftol))
+                shell = cad.build_shell(work, ftol, previous=base_shell)
                 incr.append(t1 - t0 + time.perf_counter() - t2)
+                faces_rebuilt.append(shell.reused["faces"][1])
                 if len(full) < shell_probes.get(target, 1):
+                    t3 = time.perf_counter()
+                    cad.build_shell(work, ftol, continuity="G1", previous=base_shell)
+                    g1.append(t1 - t0 + time.perf_counter() - t3)
                     t3 = time.perf_counter()
                     cad.build_shell(work, ftol)
                     full.append(t1 - t0 + time.perf_counter() - t3)
@@ -169,7 +139,8 @@ def measure_latency(nets: dict, growth: dict, probes: int, shell_probes: dict, s
                      "growth": growth,
                      "regions_touched_median": float(np.median(touched)) if touched else float("nan"),
                      "faces_rebuilt_median": float(np.median(faces_rebuilt)) if faces_rebuilt else float("nan"),
-                     "core": _stats(core), "full_shell": _stats(full), "incremental": _stats(incr)})
+                     "core": _stats(core), "full_shell": _stats(full), "incremental": _stats(incr),
+                     "g1_incremental": _stats(g1)})
     return rows
 
 

@@ -102,9 +102,11 @@ def main(argv: list[str] | None = None) -> int:
         f"Growth strokes: {growth['accepted']} kept, {growth['rejected']} rejected by the core, "
         f"{growth['dropped']} dropped because the CAD adapter could not fit them.",
         report.latency_table(lat), report.target_lines(lat),
-        "*incremental = refit the changed curves + rebuild the faces using them, no re-sew: an estimate "
-        "of an incremental adapter, which ProgSurf.cad does not have. The full shell column is what "
-        "the adapter does today.",
+        "incremental = core + cad.build_shell(previous=shell of the network before the stroke): "
+        "unchanged curves and faces reused, the rest fitted and built, the whole shell re-sewn (what "
+        "the document object does on recompute). full shell = core + the shell built from nothing. "
+        "G1 incremental = the incremental update in G1 mode (its flux correction covers every face); "
+        "the difference to the incremental column is the time G1 adds per stroke.",
         "## 2. Against Surface::Filling and GeomFillSurface (Coons)",
         "dev = vertical deviation |z - z_true(x,y)| on a 21x21 grid of every face; curve dev = largest "
         "distance of the interior curves' points from the result.",

@@ -255,17 +255,12 @@ def _iso(surface, side: int, a: float, b: float):
 
 
 def make_face(surface, pieces: tuple):
-    """A face on `surface` bounded by its iso-curves, split at the side junctions so that a
-    neighbour sharing one edge of a longer side meets it vertex to vertex."""
-    edges = []
-    for side in range(4):
-        if not pieces[side]:
-            continue
-        for p in pieces[side]:
-            edge = _iso(surface, side, p.a, p.b)
-            if edge.Length > DEGENERATE_MM:   # a collapsed side: OCC adds the degenerated edge itself
-                edges.append(edge)
-    face = Part.Face(surface, Part.Wire(Part.__sortEdges__(edges)))
+    """The face of the whole surface, bounded by its four iso-curves (a degenerate side gives
+    OCC's degenerated edge). Where a neighbour shares only part of a longer side, the sewing
+    (`sew`) cuts that edge at the neighbour's vertex, so the faces still meet vertex to vertex.
+    (Faces bounded by pre-split iso-edges came out "self-intersecting" from OCC and needed a
+    ShapeFix pass that cost ten times the rest of the face.)"""
+    face = surface.toShape()
     if not face.isValid():
         face.fix(1e-9, 1e-9, 1e-7)
     return face
