@@ -109,11 +109,15 @@ class SurfaceProxy:
 
         strokes = self.strokes(obj)
         boundary = None if obj.AutoBoundary else len(obj.Boundary)
+        # automatic classification chooses among the Boundary list only: strokes the designer
+        # added as interior strokes stay interior (an off-surface one is rejected, not taken
+        # for a boundary)
+        candidates = list(range(len(obj.Boundary))) if obj.AutoBoundary and obj.Interior else None
         try:
             outcome = build.build_surface(
                 [stroke_object.stroke_points(s) for s in strokes], boundary,
                 self.tolerances(obj), skin=obj.Skin, continuity=obj.Continuity,
-                previous=getattr(self, "shell", None))
+                previous=getattr(self, "shell", None), candidates=candidates)
         except (ProgSurfError, Part.OCCError) as exc:
             message = f"{obj.Label}: {exc}; the previous shape is kept"
             FreeCAD.Console.PrintError(f"ProgSurf: {message}\n")

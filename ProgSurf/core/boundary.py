@@ -376,11 +376,14 @@ def _boundary_indices(spec: BoundarySpec, n: int) -> Optional[list[int]]:
 
 
 def make_boundary(
-    strokes: Sequence[npt.ArrayLike], boundary: BoundarySpec = None, tol: Tolerances = Tolerances()
+    strokes: Sequence[npt.ArrayLike], boundary: BoundarySpec = None, tol: Tolerances = Tolerances(),
+    candidates: Optional[Sequence[int]] = None,
 ) -> tuple[BoundaryLoop, list[int]]:
     """Steps 1-5 of the module docstring: the BoundaryLoop and the (sorted) interior stroke indices.
 
     boundary : None = classify by rays; N = the first N strokes; list = these stroke indices.
+    candidates : with boundary None, classify only these strokes (the others are interior
+                 whatever their place); None = all strokes.
     Strokes are validated (InvalidStrokeError names the bad one) and filtered with tol.filter_mm
     or `auto_filter_threshold`; the input arrays are not modified.
     """
@@ -390,12 +393,19 @@ def make_boundary(
     chosen = _boundary_indices(boundary, len(arrays))
     threshold = auto_filter_threshold(arrays) if tol.filter_mm is None else float(tol.filter_mm)
     filtered = [filter_stroke(a, threshold) for a in arrays]
-    allpts = np.concatenate(filtered)
+    pool = list(range(len(arrays))) if candidates is None or chosen is not None else \
+        sorted({int(i) for i in candidates})
+    if not pool or not all(0 <= i < len(arrays) for i in pool):
+        raise InvalidOptionError(f"candidates={candidates!r}: give indices of strokes of this sketch "
+                                 f"(0..{len(arrays) - 1})")
+    # the plane and size of the sketch come from the strokes that may bound it
+    allpts = np.concatenate([filtered[i] for i in pool])
     plane = best_fit_plane(allpts)
     diagonal = sketch_diagonal(allpts)
     notes = [f"filtered strokes with a 3D distance threshold of {threshold:.4g} mm"]
     if chosen is None:
-        chosen, _ = classify_strokes(filtered, plane)
+        found, _ = classify_strokes([filtered[i] for i in pool], plane)
+        chosen = [pool[i] for i in found]
         notes.append(f"rays from the centroid found boundary strokes {chosen}")
     interior = sorted(set(range(len(arrays))) - set(chosen))
     faired = bool(tol.fair_mm and tol.fair_mm > 0 and tol.snap_mm)

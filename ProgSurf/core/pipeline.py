@@ -95,22 +95,27 @@ def _kept_points(raw: np.ndarray, parts: list) -> np.ndarray:
 
 def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
           tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
-          falloff: str = "linear") -> BuildResult:
+          falloff: str = "linear", candidates: Optional[Sequence[int]] = None) -> BuildResult:
     """Build the progressive surface.
 
     strokes  : (n_i, 3) point arrays in mm, in drawing order
     boundary : None = classify by rays from the centroid; N = the first N strokes; list = indices
+    candidates : with boundary None, the strokes the classification may choose from (the others are
+                 interior strokes in any case); None = all
     Raises a ProgSurfError when no surface can be made (bad strokes, a boundary that cannot be
     closed); an interior stroke that cannot be added is recorded as rejected, never raised.
     """
     timings: dict = {}
     clock = time.perf_counter()
     arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
-    tol = resolve_tolerances(arrays, tol) if arrays else tol
+    # automatic tolerances follow the size of the sketch, or of the boundary candidates when they
+    # are named (a stroke added far beside the surface must not change them)
+    sized = [arrays[i] for i in candidates if 0 <= i < len(arrays)] if candidates is not None else arrays
+    tol = resolve_tolerances(sized or arrays, tol) if arrays else tol
     timings["validate"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    loop, interior = make_boundary(arrays, boundary, tol)
+    loop, interior = make_boundary(arrays, boundary, tol, candidates)
     timings["boundary"] = time.perf_counter() - clock
     total = len(interior) + 2
     if progress:

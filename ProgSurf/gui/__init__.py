@@ -23,7 +23,11 @@ def register_preferences() -> None:
     """Register the preferences page of the default tolerances (Edit > Preferences > ProgSurf).
 
     Values live in ``User parameter:BaseApp/Preferences/Mod/ProgSurf``; make_surface reads them.
+    The dialog shows the group with the icon named ``preferences-progsurf`` on the icon path.
     """
     import FreeCADGui
 
+    from .view_providers import ICONS
+
+    FreeCADGui.addIconPath(ICONS)
     FreeCADGui.addPreferencePage(os.path.join(UI_DIR, "preferences.ui"), "ProgSurf")

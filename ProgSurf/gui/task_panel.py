@@ -50,8 +50,21 @@ def _show(panel: "SurfacePanel") -> "SurfacePanel":
     return panel
 
 
+def continuity_box(surface) -> "QtGui.QComboBox | None":
+    """A G0/G1 choice set to the surface's Continuity, or None for a surface without one."""
+    if "Continuity" not in surface.PropertiesList:
+        return None
+    box = QtGui.QComboBox()
+    box.addItems(list(surface.getEnumerationsOfProperty("Continuity")))
+    box.setCurrentIndex(box.findText(surface.Continuity))
+    box.setToolTip("G0: the paper's Coons sub-patches; G1: tangent-continuous seams "
+                   "(kinked strokes and outer corners stay sharp)")
+    return box
+
+
 class SurfacePanel:
-    """The task panel: stroke list (checked = boundary), automatic classification, tolerances."""
+    """The task panel: stroke list (checked = boundary), automatic classification, tolerances,
+    continuity, and the read-only interior strokes with their status."""
 
     def __init__(self, surface, created: bool) -> None:
         self.surface, self.created = surface, created
@@ -76,11 +89,11 @@ class SurfacePanel:
             item.setCheckState(QtCore.Qt.Checked if stroke in used else QtCore.Qt.Unchecked)
             self.list.addItem(item)
         layout.addWidget(self.list)
-        layout.addWidget(QtGui.QLabel("Interior strokes, in drawing order (later strokes win):"))
+        layout.addWidget(QtGui.QLabel("Interior strokes, in drawing order:"))
         self.interior = QtGui.QListWidget()
         self.interior.setSelectionMode(QtGui.QAbstractItemView.NoSelection)
-        self.interior.setToolTip("What the last recompute did with each interior stroke "
-                                 "(read-only; add strokes with Add interior)")
+        self.interior.setToolTip("What the last recompute did with each interior stroke; later "
+                                 "strokes win (read-only; add strokes with Add interior)")
         layout.addWidget(self.interior)
 
         form = QtGui.QFormLayout()
@@ -95,13 +108,8 @@ class SurfacePanel:
             spin.setValue(getattr(surface, name))
             form.addRow(label, spin)
             self.spins[name] = spin
-        self.continuity = None
-        if "Continuity" in surface.PropertiesList:
-            self.continuity = QtGui.QComboBox()
-            self.continuity.addItems(list(surface.getEnumerationsOfProperty("Continuity")))
-            self.continuity.setCurrentIndex(self.continuity.findText(surface.Continuity))
-            self.continuity.setToolTip("G0: the paper's Coons sub-patches; G1: tangent-continuous "
-                                       "seams (kinked strokes and outer corners stay sharp)")
+        self.continuity = continuity_box(surface)
+        if self.continuity is not None:
             form.addRow("Continuity across seams", self.continuity)
         self.skin = QtGui.QCheckBox("Exchange surface (skin, paper 3.3)")
         self.skin.setChecked(surface.Skin)
@@ -173,17 +181,24 @@ class SurfacePanel:
             rows = [(st.Label, "not built", "the last recompute failed")
                     for st in self.surface.Interior]
         for label, status, reason in rows:
-            item = QtGui.QListWidgetItem(QtGui.QIcon(icon("ProgSurf_Stroke")),
-                                         f"{label}: {status}" + (f" ({reason})" if reason else ""))
+            # an accepted stroke's note (ends, pulled curves) is long: tooltip only
+            shown = reason and status != "accepted"
+            text = f"{label}: {status}" + (f" ({reason})" if shown else "")
+            item = QtGui.QListWidgetItem(QtGui.QIcon(icon("ProgSurf_Stroke")), text)
             item.setFlags(QtCore.Qt.ItemIsEnabled)
             item.setToolTip(reason or status)
             if status != "accepted":
                 item.setForeground(QtGui.QBrush(QtGui.QColor("red")))
             self.interior.addItem(item)
         if not rows:
-            item = QtGui.QListWidgetItem("none (use Add interior)")
+            failed = "no status: the last recompute failed (see below)"
+            item = QtGui.QListWidgetItem(failed if self.surface.LastError
+                                         else "none (use Add interior)")
             item.setFlags(QtCore.Qt.NoItemFlags)
             self.interior.addItem(item)
+        count = min(self.interior.count(), 6)
+        self.interior.setFixedHeight(count * self.interior.sizeHintForRow(0)
+                                     + 2 * self.interior.frameWidth())
 
     # -- task dialog protocol --------------------------------------------------------------
     def getStandardButtons(self) -> int:

@@ -32,6 +32,7 @@ import numpy as np  # noqa: E402
 
 import ProgSurf.app.make as ps  # noqa: E402
 from ProgSurf.app import params  # noqa: E402
+from ProgSurf.app.surface_object import stroke_states  # noqa: E402
 from ProgSurf.core.errors import InvalidStrokeError  # noqa: E402
 from ProgSurf.core.pipeline import FAIR_FRACTION  # noqa: E402
 from ProgSurf.io import read_strokes, write_point_list  # noqa: E402
@@ -266,6 +267,44 @@ class TestFig11Surface(DocTestCase):
         self.assertEqual(surface.PatchCount, 4)
         self.assertAlmostEqual(surface.Shape.Area, area, delta=1e-6 * area)
         self.assertEqual(surface.StrokeDeviation[6], -1.0)
+
+    def test_stroke_states_pair_each_status_line_with_its_stroke(self):
+        surface, _, strokes, st1, st2 = self.fig11()
+        far = ps.make_stroke_from_points([[260, 100, 5], [280, 120, 5], [300, 140, 5]],
+                                         name="Outside", doc=self.doc)
+        ps.add_interior(surface, [far])
+        states = stroke_states(surface)
+        self.assertEqual([st.stroke for st in states], strokes + [st1, st2, far])
+        self.assertEqual([(st.role, st.status) for st in states],
+                         [("boundary", "accepted")] * 4 + [("interior", "accepted")] * 2
+                         + [("interior", "rejected")])
+        self.assertEqual([st.reason for st in states],
+                         [line.split(" ", 3)[3] for line in surface.StrokeStatus])
+        self.assertEqual(states[6].reason, far.Reason)
+        surface.Boundary = strokes[:2]        # failed build: old lines, new stroke list
+        self.doc.recompute()
+        self.assertTrue(surface.LastError)
+        self.assertEqual(stroke_states(surface), [], "no pairing with a stale StrokeStatus")
+
+    def test_auto_classification_keeps_added_interior_strokes_interior(self):
+        """With AutoBoundary, rays choose the boundary among the Boundary list only: a stroke the
+        designer added as interior, even one drawn beside the surface, is never taken for a boundary."""
+        root = Path(__file__).resolve().parents[2]
+        strokes = ps.make_strokes_from_file(str(root / "examples" / "clean4.xyz"), doc=self.doc)
+        surface = ps.make_surface(all_strokes=strokes)
+        self.doc.recompute()
+        self.assertTrue(surface.AutoBoundary)
+        patches, area = surface.PatchCount, surface.Shape.Area
+        far = ps.make_stroke_from_points([[150, 100, 5], [170, 120, 5], [190, 140, 5]],
+                                         name="Outside", doc=self.doc)
+        ps.add_interior(surface, [far])
+        self.assertRecomputed(surface)
+        self.assertEqual(surface.LastError, "")
+        self.assertEqual((far.Role, far.Status), ("interior", "rejected"))
+        self.assertIn("outside", far.Reason)
+        self.assertEqual(surface.PatchCount, patches)
+        self.assertAlmostEqual(surface.Shape.Area, area, delta=1e-9 * area)
+        self.assertEqual([s.Role for s in strokes], ["boundary"] * 4 + ["interior"] * 3)
 
     def test_failed_build_keeps_the_previous_shape(self):
         surface, _, strokes, *_ = self.fig11()
