@@ -251,8 +251,43 @@ def smooth_face(info, network, seams: _Seams) -> G1Face:
     return G1Face(info.region_id, out, free, offset)
 
 
-def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG) -> tuple[tuple, frozenset]:
-    """G1Face per G0 FaceInfo (same order), and the ids of the seams kept sharp (kinked strokes)."""
+def _face_key(info, network, seams: _Seams, at_node: dict) -> tuple:
+    """Everything smooth_face(info) reads, as object identities (G0 FaceInfos are reused by
+    build_shell only when their content is unchanged): the face, every face sharing a node with it
+    (node normals), and for each of its edges the face across it and whether it is a seam or sharp."""
+    ids, _ = network.region_corners(info.region_id)
+    nodes = set(ids)
+    edges = []
+    for pieces in info.sides:
+        for p in pieces:
+            e = seams.edges[p.edge_id]
+            nodes.update((e.node0, e.node1))
+            other = tuple(sorted(id(f) for f, _, _ in seams.uses.get(p.edge_id, ())))
+            edges.append((p.edge_id, e.node0, e.node1, other, p.edge_id in seams.seam, p.edge_id in seams.sharp))
+    return (id(info), tuple(sorted(edges)),
+            tuple(sorted((n, tuple(sorted(at_node.get(n, ())))) for n in nodes)))
+
+
+def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
+                 cache: dict | None = None, keep: dict | None = None) -> tuple[tuple, frozenset]:
+    """G1Face per G0 FaceInfo (same order), and the ids of the seams kept sharp (kinked strokes).
+
+    cache : {key: G1Face} of an earlier call; a face whose inputs (its G0 face, its neighbours, the
+            faces around its nodes) are the same objects is taken from it.
+    keep  : receives this call's entries (reused and new), for the next call."""
     sharp = g1.sharp_edges(network, angle_deg)
     seams = _Seams(infos, network, sharp)
-    return tuple(smooth_face(info, network, seams) for info in infos), sharp
+    at_node: dict = {}
+    for f in infos:
+        for nid in network.region_corners(f.region_id)[0]:
+            at_node.setdefault(nid, set()).add(id(f))
+    out = []
+    for info in infos:
+        key = ("g1", _face_key(info, network, seams, at_node))
+        face = (cache or {}).get(key)
+        if face is None:
+            face = smooth_face(info, network, seams)
+        if keep is not None:
+            keep[key] = face
+        out.append(face)
+    return tuple(out), sharp

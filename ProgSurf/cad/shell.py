@@ -183,14 +183,16 @@ def _curve_key(edges: list, nodes: dict, tol_mm: float) -> tuple:
                              for e in sorted(edges, key=lambda x: x.id))
 
 
-def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None) -> dict:
+def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None,
+              keep: dict | None = None) -> dict:
     """edge_id -> cubic Part.BSplineCurve on [0,1] (edge param 0 at node0). Each network curve (an
     outer side or an accepted stroke) is fitted once through all its nodes, then cut at them; a curve
     whose edges do not form one chain is fitted edge by edge.
 
     cache : {curve key: {edge_id: curve}} from an earlier build; a curve whose edges and nodes are
-            unchanged is taken from it instead of being fitted again. New fits are added to it.
-    stats : receives "curves": (reused, fitted)."""
+            unchanged is taken from it instead of being fitted again.
+    stats : receives "curves": (reused, fitted).
+    keep  : receives the entries of this build (reused and new), for the next one."""
     edges = network.edges()
     nodes = _node_points(edges)
     by_curve: dict = {}
@@ -198,12 +200,14 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
         by_curve.setdefault(e.curve_id, []).append(e)
     tol_mm = tol.fit_mm * EDGE_FIT_FRACTION
     cache = {} if cache is None else cache
+    keep = {} if keep is None else keep
     curves = {}
     reused = fitted = 0
     for cid, group in by_curve.items():
         key = ("curve", cid, _curve_key(group, nodes, tol_mm))
         if key in cache:
             curves.update(cache[key])
+            keep[key] = cache[key]
             reused += 1
             continue
         chain = _curve_chain(group)
@@ -212,7 +216,7 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
         else:
             piece = {e.id: fit_polyline(e.polyline, tol_mm, start=nodes[e.node0], end=nodes[e.node1],
                                         name=f"edge {e.id} (curve {cid})") for e in group}
-        cache[key] = piece
+        keep[key] = piece
         curves.update(piece)
         fitted += 1
     if stats is not None:
@@ -284,9 +288,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     old = previous.cache if previous is not None else {}
     cache: dict = {}
     stats: dict = {}
-    curve_cache = {k: v for k, v in old.items() if k[0] == "curve"}
-    curves = fit_edges(network, tol, curve_cache, stats)
-    cache.update(curve_cache)
+    curves = fit_edges(network, tol, old, stats, keep=cache)
     t1 = time.perf_counter()
     infos = []
     reused = built = 0
@@ -313,7 +315,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": (reused, built)}
     if continuity == "G1":
-        res = _g1_shell(network, tuple(infos), curves, {"fit_edges": t1 - t0, "faces": t2 - t1})
+        res = _g1_shell(network, tuple(infos), curves, {"fit_edges": t1 - t0, "faces": t2 - t1}, old, cache)
         return ShellResult(res.shape, res.faces, res.edge_curves, res.timings_s, res.continuity,
                            res.sharp_edges, res.g0_faces, cache, counts)
     shape = sew([i.face for i in infos])
@@ -322,12 +324,13 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                        {"fit_edges": t1 - t0, "faces": t2 - t1, "sew": t3 - t2}, cache=cache, reused=counts)
 
 
-def _g1_shell(network, g0_infos: tuple, curves: dict, timings: dict) -> ShellResult:
+def _g1_shell(network, g0_infos: tuple, curves: dict, timings: dict, cache: dict | None = None,
+              keep: dict | None = None) -> ShellResult:
     """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries, sewn."""
     from .g1 import smooth_faces
 
     t0 = time.perf_counter()
-    smooth, sharp = smooth_faces(g0_infos, network)
+    smooth, sharp = smooth_faces(g0_infos, network, cache=cache, keep=keep)
     infos = []
     for info, g in zip(g0_infos, smooth):
         face = make_face(g.surface, info.sides)

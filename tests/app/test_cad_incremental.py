@@ -72,3 +72,27 @@ def test_a_changed_tolerance_fits_everything_again(steps):
 
     other = cad.build_shell(after.network, replace(after.tol, fit_mm=after.tol.fit_mm * 2), previous=first)
     assert other.reused["curves"][0] == 0 and other.reused["faces"][0] == 0
+
+
+def test_g1_faces_far_from_the_new_stroke_are_reused_and_the_same():
+    """A 30-region network grown with random strokes over a saddle (the benchmark's), then one more
+    stroke: the G1 faces it does not reach (through a changed face, curve or node) are reused."""
+    from benchmarks.latency import grow
+    from benchmarks.surfaces import BENCH_TOL, SURFACES, random_stroke
+
+    nets, _ = grow([30])
+    net, tol = nets[30], BENCH_TOL
+    rng = np.random.default_rng(3)
+    later = net.clone()
+    while add_stroke(later, random_stroke(SURFACES["saddle"], rng), 999, tol, tol.snap_mm).status != "accepted":
+        later = net.clone()
+    before, after = Step(net, tol), Step(later, tol)
+    first = cad.build_shell(before.network, before.tol, continuity="G1")
+    full = cad.build_shell(after.network, after.tol, continuity="G1")
+    incr = cad.build_shell(after.network, after.tol, continuity="G1", previous=first)
+    g1_reused = sum(1 for k in incr.cache if k[0] == "g1" and k in first.cache)
+    assert 0 < g1_reused < len(incr.faces)
+    assert len([k for k in incr.cache if k[0] == "g1"]) == len(incr.faces)   # nothing stale is kept
+    for a, b in zip(incr.faces, full.faces):
+        assert np.array_equal(poles(a), poles(b))
+    assert incr.shape.isValid() and incr.shape.Area == pytest.approx(full.shape.Area, rel=1e-12)
