@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bspline import basis_matrix, uniform_knots
 from .strokes import cumulative_length
 from .types import FloatArray
 
@@ -50,25 +51,7 @@ def pchip(x: FloatArray, y: FloatArray, xq: FloatArray) -> FloatArray:
 
 def _basis(t: FloatArray, m: int) -> FloatArray:
     """(len(t), m) cubic B-spline basis on a clamped uniform knot vector with m control points."""
-    k = 3
-    inner = np.linspace(0.0, 1.0, m - k + 1)
-    knots = np.concatenate([[0.0] * k, inner, [1.0] * k])
-    t = np.clip(np.asarray(t, dtype=float), 0.0, 1.0)
-    # degree 0
-    b = np.zeros((len(t), len(knots) - 1))
-    idx = np.searchsorted(knots, t, side="right") - 1
-    idx = np.clip(idx, k, m - 1)
-    b[np.arange(len(t)), idx] = 1.0
-    for d in range(1, k + 1):
-        nb = np.zeros((len(t), len(knots) - 1 - d))
-        for i in range(len(knots) - 1 - d):
-            den1 = knots[i + d] - knots[i]
-            den2 = knots[i + d + 1] - knots[i + 1]
-            a = (t - knots[i]) / den1 * b[:, i] if den1 > 0 else 0.0
-            c = (knots[i + d + 1] - t) / den2 * b[:, i + 1] if den2 > 0 else 0.0
-            nb[:, i] = a + c
-        b = nb
-    return b
+    return basis_matrix(uniform_knots(m), np.clip(np.asarray(t, dtype=float), 0.0, 1.0))
 
 
 def jitter(points: FloatArray) -> float:
