@@ -81,10 +81,15 @@ class CoonsPatch:
     left: Curve
 
     def corners(self) -> FloatArray:
-        """(4, 3): p(0,0), p(1,0), p(1,1), p(0,1)."""
-        b = self.bottom(np.array([0.0, 1.0]))
-        t = self.top(np.array([0.0, 1.0]))
-        return np.array([b[0], b[1], t[1], t[0]])
+        """(4, 3): p(0,0), p(1,0), p(1,1), p(0,1) (computed once: the sides do not change)."""
+        cached = self.__dict__.get("_corners")
+        if cached is None:
+            b = self.bottom(np.array([0.0, 1.0]))
+            t = self.top(np.array([0.0, 1.0]))
+            cached = np.array([b[0], b[1], t[1], t[0]])
+            cached.setflags(write=False)
+            object.__setattr__(self, "_corners", cached)
+        return cached
 
     def evaluate(self, u: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
         """Points P(u,v); u and v broadcast together; returns (..., 3)."""

@@ -26,11 +26,33 @@ class Facets:
     xyz      : (m, 3, 3) the triangles' 3D corners
     uv       : (m, 3, 2) their pre-images
     region   : (m,) int, region id of each triangle
+    solver   : optional (inverse (m, 3, 3), good (m,), edge length (m,)) from :func:`prepare`, so
+               that many footpoints on the same facets cost one product each, not a solve
     """
 
     xyz: FloatArray
     uv: FloatArray
     region: np.ndarray
+    solver: tuple | None = None
+
+
+def prepare(tri: FloatArray) -> tuple[FloatArray, np.ndarray, FloatArray]:
+    """The facet-only part of Eq. 2: the inverse of [R S N] per triangle (identity where the
+    triangle is degenerate), the non-degenerate mask and the longer edge length."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    r_vec, s_vec = b - a, c - a
+    n = np.cross(r_vec, s_vec)
+    nrm = np.linalg.norm(n, axis=1)
+    good = nrm > 1e-300
+    n_unit = n / np.where(good, nrm, 1.0)[:, None]
+    # inverse of the column matrix [R S N] by cross products: rows (S x N, N x R, R x S) / det
+    rows = np.stack([np.cross(s_vec, n_unit), np.cross(n_unit, r_vec), np.cross(r_vec, s_vec)], axis=1)
+    det = np.einsum("ij,ij->i", r_vec, rows[:, 0])
+    good &= np.abs(det) > 1e-300
+    inv = rows / np.where(good, det, 1.0)[:, None, None]
+    inv[~good] = np.eye(3)
+    edge_len = np.maximum(np.linalg.norm(r_vec, axis=1), np.linalg.norm(s_vec, axis=1))
+    return inv, good, edge_len
 
 
 @dataclass(frozen=True)
@@ -91,18 +113,10 @@ def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
     """
     q = np.asarray(q, dtype=float)
     tri = facets.xyz
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    r_vec, s_vec = b - a, c - a
-    n = np.cross(r_vec, s_vec)
-    nrm = np.linalg.norm(n, axis=1)
-    good = nrm > 1e-300
-    n_unit = n / np.where(good, nrm, 1.0)[:, None]
+    inv, good, edge_len = facets.solver if facets.solver is not None else prepare(tri)
     # Eq. 2 for all facets at once: [R S N] [k_r k_s d]^T = Q - P0.
-    mat = np.stack([r_vec, s_vec, n_unit], axis=2)
-    mat[~good] = np.eye(3)
-    sol = np.linalg.solve(mat, (q - a)[:, :, None])[:, :, 0]
+    sol = np.einsum("mij,mj->mi", inv, q - tri[:, 0])
     kr, ks, d = sol[:, 0], sol[:, 1], sol[:, 2]
-    edge_len = np.maximum(np.linalg.norm(r_vec, axis=1), np.linalg.norm(s_vec, axis=1))
     tol = np.where(edge_len > 0, slack / np.maximum(edge_len, 1e-300), 0.0) + 1e-9
     real = good & (kr >= -tol) & (ks >= -tol) & (kr + ks <= 1 + tol)
     if np.any(real):

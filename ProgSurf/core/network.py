@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .coons import CoonsPatch
-from .footpoint import Facets, Footpoint, footpoint
+from .footpoint import Facets, Footpoint, footpoint, prepare
 from .preimage import bilinear, cross2, inverse_bilinear, polygon_area, turning_corners
 from .types import FloatArray, Polyline
 
@@ -335,8 +335,21 @@ class PatchNetwork:
         return [self.region(rid) for rid in self._regions]
 
     def edges(self) -> dict[int, EdgeView]:
-        return {eid: EdgeView(eid, e.curve_id, e.n0, e.n1, self._nodes[e.n0].uv,
-                              self._nodes[e.n1].uv, e.polyline) for eid, e in self._edges.items()}
+        """Edge id -> EdgeView. Views are kept per edge while its (immutable) record and end nodes
+        are the same objects: a stroke touches a few edges, so most views are reused."""
+        views = self.__dict__.setdefault("_views", {})
+        nodes = self._nodes
+        out = {}
+        for eid, e in self._edges.items():
+            n0, n1 = nodes[e.n0], nodes[e.n1]
+            c = views.get(eid)
+            if c is None or c[0] is not e or c[1] is not n0 or c[2] is not n1:
+                c = (e, n0, n1, EdgeView(eid, e.curve_id, e.n0, e.n1, n0.uv, n1.uv, e.polyline))
+                views[eid] = c
+            out[eid] = c[3]
+        if len(views) > 2 * len(out) + 64:        # forget removed edges now and then
+            self.__dict__["_views"] = {k: views[k] for k in out}
+        return out
 
     def curve_edges(self, curve_id: int) -> list[int]:
         return [eid for eid, e in self._edges.items() if e.curve_id == curve_id]
@@ -383,13 +396,20 @@ class PatchNetwork:
             return cached[1]
         starts, dirs, owners, offsets = [], [], [], []
         count = 0
-        for rid in self._regions:
-            poly = self.region_polygon(rid)
-            starts.append(poly)
-            dirs.append(np.roll(poly, -1, axis=0) - poly)
+        polys = self.__dict__.setdefault("_polys", {})
+        if len(polys) > 2 * len(self._regions) + 64:      # forget removed regions now and then
+            polys = self.__dict__["_polys"] = {k: polys[k] for k in self._regions if k in polys}
+        for rid, reg in self._regions.items():
+            c = polys.get(rid)
+            if c is None or c[0] is not reg:      # region records are replaced when they change
+                poly = self.region_polygon(rid)
+                c = (reg, poly, np.concatenate([poly[1:], poly[:1]]) - poly)
+                polys[rid] = c
+            starts.append(c[1])
+            dirs.append(c[2])
             owners.append(rid)
             offsets.append(count)
-            count += len(poly)
+            count += len(c[1])
         a = np.concatenate(starts)
         d = np.concatenate(dirs)
         inv = 1.0 / np.maximum(np.linalg.norm(d, axis=1), 1e-300)
@@ -444,19 +464,29 @@ class PatchNetwork:
         i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
         i, j = i.ravel(), j.ravel()
         tris = (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
-        xyz, uv, region = [], [], []
+        key = tuple(self._regions)
+        joined = self.__dict__.get("_joined")
+        if joined is not None and joined[0] == key and all(self._facets.get(r) is joined[1][k]
+                                                               for k, r in enumerate(key)):
+            return joined[2]
+        xyz, uv, region, parts, solver = [], [], [], [], []
         for rid in self._regions:
             if rid not in self._facets:
                 p = self.evaluate_region(rid, ss, rr)
                 q = self.local_to_uv(rid, ss, rr)
                 fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
                 fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
-                self._facets[rid] = (fx, fu)
-            fx, fu = self._facets[rid]
+                self._facets[rid] = (fx, fu, prepare(fx))
+            parts.append(self._facets[rid])
+            fx, fu, pre = self._facets[rid]
             xyz.append(fx)
             uv.append(fu)
             region.append(np.full(len(fx), rid))
-        return Facets(np.concatenate(xyz), np.concatenate(uv), np.concatenate(region))
+            solver.append(pre)
+        facets = Facets(np.concatenate(xyz), np.concatenate(uv), np.concatenate(region),
+                        tuple(np.concatenate([p[k] for p in solver]) for k in range(3)))
+        self.__dict__["_joined"] = (key, parts, facets)
+        return facets
 
     def footpoint(self, q: FloatArray, slack: float = 0.0) -> Footpoint:
         """Footpoint of q on the current surface (Eq. 2)."""

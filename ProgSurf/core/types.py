@@ -55,8 +55,14 @@ class Polyline:
 
     def evaluate(self, t: npt.ArrayLike) -> FloatArray:
         """Piecewise-linear point(s) at parameter(s) t in [0, 1]; returns (..., 3)."""
-        t = np.clip(np.asarray(t, dtype=float), 0.0, 1.0)
-        return np.stack([np.interp(t, self.params, self.points[:, k]) for k in range(3)], axis=-1)
+        t = np.asarray(t, dtype=float)
+        prm, pts = self.params, self.points
+        if len(prm) < 2:
+            return np.broadcast_to(pts[0], t.shape + (3,)).copy()
+        tc = np.minimum(np.maximum(t, prm[0]), prm[-1])
+        k = np.minimum(np.searchsorted(prm, tc, side="right") - 1, len(prm) - 2)
+        w = ((tc - prm[k]) / (prm[k + 1] - prm[k]))[..., None]
+        return pts[k] * (1.0 - w) + pts[k + 1] * w
 
     def reversed(self) -> "Polyline":
         return Polyline(self.points[::-1], 1.0 - self.params[::-1])
