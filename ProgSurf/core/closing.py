@@ -89,6 +89,8 @@ class _Corner:
     keep_until: int  # the previous stroke keeps vertices [.. keep_until)
     keep_from: int  # the next stroke keeps vertices [keep_from ..)
     note: str
+    own_a: FloatArray | None = None  # the previous stroke's own point at the corner (before the midpoint)
+    own_b: FloatArray | None = None  # the next stroke's own point at the corner
 
 
 def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: FloatArray,
@@ -144,11 +146,11 @@ def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: Floa
             trimmed = 0.0 if trimmed <= tiny else trimmed
             note = f"corner of strokes {names[0]}->{names[1]}: {what}" + (
                 f", {trimmed:.3g} mm of overshoot trimmed" if trimmed > 0 else "")
-            return _Corner(0.5 * (pa + pb), keep_until, keep_from, note)
+            return _Corner(0.5 * (pa + pb), keep_until, keep_from, note, pa, pb)
     if end_gap3 > limit:
         raise _gap_error(names, end_gap3, limit)
     note = f"corner of strokes {names[0]}->{names[1]}: ends {end_gap3:.3g} mm apart joined at their 3D midpoint"
-    return _Corner(0.5 * (a3[-1] + b3[0]), len(a3), 0, note)
+    return _Corner(0.5 * (a3[-1] + b3[0]), len(a3), 0, note, a3[-1], b3[0])
 
 
 def _gap_error(names: tuple[int, int], width: float, limit: float) -> OpenBoundaryError:
@@ -362,6 +364,34 @@ def _check_simple(sides: Sequence[ClosedSide], origin: FloatArray, axes: FloatAr
                 "around the surface, or name the boundary strokes explicitly")
 
 
+RAMP_SLOPE = 0.05
+"""The corner is the 3D midpoint of the two strokes' points there, so each stroke is off it by half
+their distance in depth. That offset is spread over the stroke's last stretch, |offset| / RAMP_SLOPE
+long (at most a third of the stroke), instead of a jump in its last segment (a hook at the corner)."""
+
+
+def _ramp_to_corners(inner: FloatArray, before: _Corner, after: _Corner) -> FloatArray:
+    """Stroke points between two corners, moved so that they run smoothly into both corner points."""
+    if len(inner) < 2:
+        return inner
+    run = cumulative_length(inner)
+    total = float(run[-1])
+    if total <= 0:
+        return inner
+    out = np.array(inner, dtype=float)
+    for corner, own, dist in ((before, before.own_b, run), (after, after.own_a, total - run)):
+        if own is None:
+            continue
+        delta = np.asarray(corner.point, dtype=float) - np.asarray(own, dtype=float)
+        size = float(np.linalg.norm(delta))
+        if size <= 0:
+            continue
+        reach = min(size / RAMP_SLOPE, total / 3.0)
+        w = np.clip(1.0 - dist / reach, 0.0, 1.0)
+        out += (w * w * (3.0 - 2.0 * w))[:, None] * delta    # smoothstep: no slope jump where it starts
+    return out
+
+
 def close_loop(strokes: Sequence[FloatArray], names: Sequence[int], plane, tol: Tolerances,
                diagonal: float) -> tuple[list[ClosedSide], list[str]]:
     """Order, orient, cut and extend boundary strokes into a closed loop of sides.
@@ -392,7 +422,7 @@ def close_loop(strokes: Sequence[FloatArray], names: Sequence[int], plane, tol: 
     sides = []
     for n in range(k):
         before, after = corners[n - 1], corners[n]
-        inner = loop[n][before.keep_from:after.keep_until]
+        inner = _ramp_to_corners(loop[n][before.keep_from:after.keep_until], before, after)
         pts = np.vstack([before.point, inner, after.point])
         keep = np.concatenate([[True], np.linalg.norm(np.diff(pts, axis=0), axis=1) > 1e-12 * (1 + diagonal)])
         keep[-1] = True

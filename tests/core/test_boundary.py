@@ -275,3 +275,21 @@ def test_real_sketches_succeed_or_explain(path):
     else:
         assert_closed(loop)
         assert set(interior).isdisjoint(i for s in loop.source for i in s)
+
+
+def test_corners_join_the_strokes_without_a_hook():
+    """The corner is the 3D midpoint of two strokes that miss each other in depth; the offset is
+    spread over the stroke ends (closing.RAMP_SLOPE), so no side turns sharply next to a corner
+    (rough4's sides turned by 20-54 degrees in their last segment before)."""
+    from pathlib import Path
+
+    from ProgSurf.core.pipeline import build
+    from ProgSurf.io import read_strokes
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "rough4.xyz"
+    loop = build(read_strokes(path)).boundary
+    for side in loop.sides:
+        d = np.diff(side, axis=0)
+        n = np.linalg.norm(d, axis=1)
+        cos = np.einsum("ij,ij->i", d[:-1], d[1:]) / (n[:-1] * n[1:])
+        assert np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 10.0
