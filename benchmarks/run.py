@@ -105,7 +105,8 @@ def main(argv: list[str] | None = None) -> int:
         "incremental = core + cad.build_shell(previous=shell of the network before the stroke): "
         "unchanged curves and faces reused, the rest fitted and built, the whole shell re-sewn (what "
         "the document object does on recompute). full shell = core + the shell built from nothing. "
-        "G1 incremental = the incremental update in G1 mode (its flux correction covers every face); "
+        "G1 incremental = the same from the network's G1 shell (G1 faces reused where their G0 face and "
+        "neighbours are unchanged); "
         "the difference to the incremental column is the time G1 adds per stroke.",
         "## 2. Against Surface::Filling and GeomFillSurface (Coons)",
         "dev = vertical deviation |z - z_true(x,y)| on a 21x21 grid of every face; curve dev = largest "
