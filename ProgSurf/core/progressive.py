@@ -19,8 +19,14 @@ from .preimage import ray_exit, segment_intersections
 from .types import FloatArray, Polyline, Tolerances
 
 NODE_MERGE_UV = 2e-3
-"""A crossing closer than this to an existing node (in the unit square) uses that node, so no
-sliver regions are made."""
+"""A crossing closer than this (in the unit square) along the pre-image line to the node before it
+gets no node of its own."""
+
+NODE_SNAP_UV = 0.02
+"""A crossing closer than this to an end node of the crossed edge (in the unit square, about the
+automatic snap distance on a typical sketch), and within the snap distance of it in 3D, goes
+through that node: strokes drawn through (nearly) one point meet there, instead of leaving
+near-duplicate nodes and sliver regions whose sub-patches fold."""
 
 MAX_DEPTH = 5
 """Recursion depth of the pre-image straightness test (up to 32 straight pieces)."""
@@ -174,18 +180,106 @@ def _extension(net: PatchNetwork, end: _End, away: FloatArray, falloff: str) -> 
     return uv, surface + fall[:, None] * delta
 
 
-def _node_at(net: PatchNetwork, eid: int, t: float, xyz: FloatArray, pull: bool, snap: float) -> int:
-    """A node at edge parameter t, reusing an end node when it is within NODE_MERGE_UV in the
-    pre-image and within the snap distance in 3D (a stretched surface can put nodes that are
-    close in (u, v) far apart in space)."""
-    e = net.edges()[eid]
-    length = np.linalg.norm(e.uv1 - e.uv0)
-    here = e.polyline.evaluate(t)
-    for node, dist in ((e.node0, t * length), (e.node1, (1.0 - t) * length)):
-        if dist <= 1e-9 or (dist <= NODE_MERGE_UV and np.linalg.norm(net.node_xyz(node) - here) <= snap
-                            and np.linalg.norm(net.node_xyz(node) - xyz) <= snap):
-            return node
-    return net.split_edge(eid, t, xyz, pull)
+def _crossing_nodes(net: PatchNetwork, crossings: list, p0: FloatArray, line: FloatArray,
+                    snap: float) -> list[tuple[float, int, int, float]]:
+    """Where the pre-image line p0 + t * line meets the network, decided before anything changes.
+
+    crossings : (t along the line, edge id, s along the edge), in order along the line
+    Returns (t, node, edge id, s) in order along the line, one entry per node; node -1 means
+    "split the edge at s". A crossing within NODE_SNAP_UV (pre-image) and snap (3D, along the
+    crossed curve) of an end node of its edge goes through that node instead (see
+    :func:`_plan_nodes`). When two such nodes clash (the stroke would run along the curve between
+    them, or they are out of order along the line), one of them is not used: the one whose
+    crossings then leave the wider node spacing, if that is at least NODE_SNAP_UV / 2. Otherwise
+    the stroke is rejected, as it would leave a sliver region."""
+    edges = net.edges()
+    near: dict[int, tuple[float, int]] = {}          # edge id -> (distance, end node) within reach
+    for tk, eid, se in crossings:
+        e = edges[eid]
+        span = float(np.linalg.norm(e.uv1 - e.uv0))
+        here = e.polyline.evaluate(se)
+        for node, dist in ((e.node0, se * span), (e.node1, (1.0 - se) * span)):
+            if (dist <= NODE_SNAP_UV and np.linalg.norm(net.node_xyz(node) - here) <= snap
+                    and dist < near.get(eid, (np.inf, -1))[0]):
+                near[eid] = (dist, node)
+    exact = {node for dist, node in near.values() if dist <= 1e-9}   # the line passes through these
+
+    def without(node: int) -> dict:
+        return {eid: v for eid, v in near.items() if v[1] != node}
+
+    while True:
+        plan, clash, reason = _plan_nodes(net, edges, crossings, near, p0, line)
+        if not reason:
+            return plan
+        options = [(_spacing(net, edges, _plan_nodes(net, edges, crossings, without(n), p0, line)[0]), n)
+                   for n in sorted(clash - exact)]     # (spacing without node n, n)
+        gap, drop = max(options, default=(0.0, -1))
+        if gap < 0.5 * NODE_SNAP_UV:
+            raise StrokeRejectedError(reason)
+        near = without(drop)
+
+
+def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0: FloatArray,
+                line: FloatArray) -> tuple[list, set, str]:
+    """One plan for :func:`_crossing_nodes` in which the existing nodes ``near`` (edge id ->
+    (distance, node)) are used by their crossings. The stroke then passes through each such node,
+    so every crossing of an edge ending there is that node too (a straight piece from the node
+    meets such an edge nowhere else), and its t is the node's projection onto the line. The
+    pre-image leaves the line by less than NODE_SNAP_UV there, and every region stays convex: the
+    node already has curves on both sides of any line through it. Returns (plan, set(), ""), or
+    (the plan so far, the used nodes that clash, the reason to reject the stroke if no other plan
+    is found)."""
+    via = {node for _, node in near.values()}
+    plan: list[tuple[float, int, int, float]] = []
+    too_close = "its pre-image passes too close to an existing node"
+    for tk, eid, se in crossings:
+        e = edges[eid]
+        at_end = tk <= 1e-6 or tk >= 1 - 1e-6
+        # an end of the stroke stays where it is unless it is itself within reach of a node
+        ends = [n for n in (e.node0, e.node1) if n in via and (eid in near or not at_end)]
+        if not ends:
+            if not plan or abs(tk - plan[-1][0]) * np.linalg.norm(line) > NODE_MERGE_UV:
+                plan.append((tk, -1, eid, se))
+            continue
+        node = near[eid][1] if eid in near else ends[0]
+        t = tk if at_end else float(np.clip((net.node_uv(node) - p0) @ line / (line @ line), 0.0, 1.0))
+        if plan and plan[-1][1] == node:              # the same node again: an end keeps its t
+            if at_end:
+                plan[-1] = (tk, node, eid, se)
+            continue
+        if any(entry[1] == node for entry in plan):
+            return plan, {node}, too_close
+        plan.append((t, node, eid, se))
+    for (ta, na, ea, _), (tb, nb, eb, _) in zip(plan[:-1], plan[1:]):
+        if tb <= ta:
+            return plan, {na, nb} & via, too_close
+        # The piece between them would run along an edge: one joining two used nodes, or the edge
+        # a stroke end splits when it ends at the used node next to it.
+        along = None
+        if na >= 0 and nb >= 0 and (na, nb) in net._edge_index:
+            along = net.edge_between(na, nb)[0]
+        elif na < 0 <= nb and nb in (edges[ea].node0, edges[ea].node1):
+            along = ea
+        elif nb < 0 <= na and na in (edges[eb].node0, edges[eb].node1):
+            along = eb
+        if along is not None:
+            return plan, {na, nb} & via, f"its pre-image runs along curve {edges[along].curve_id} near a node"
+    return plan, set(), ""
+
+
+def _spacing(net: PatchNetwork, edges: dict, plan: list) -> float:
+    """The smallest pre-image distance a plan leaves between a new node and the ends of the edge
+    it splits, or between two nodes next to each other along the line."""
+    points, gaps = [], [np.inf]
+    for _, node, eid, se in plan:
+        if node >= 0:
+            points.append(net.node_uv(node))
+            continue
+        e = edges[eid]
+        points.append(e.uv0 + se * (e.uv1 - e.uv0))
+        gaps.append(min(se, 1.0 - se) * float(np.linalg.norm(e.uv1 - e.uv0)))
+    gaps += [float(np.linalg.norm(b - a)) for a, b in zip(points[:-1], points[1:])]
+    return min(gaps)
 
 
 def _line_params(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
@@ -278,20 +372,20 @@ def _insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: 
 
     # Nodes along the line; later strokes win (step 4): interior curves are pulled to the stroke.
     nodes: list[tuple[float, int]] = []
-    for tk, eid, se_k in crossings:
-        if nodes and abs(tk - nodes[-1][0]) * length <= NODE_MERGE_UV:
-            continue
-        if eid not in net.edges():          # split already by an earlier crossing at a node
-            continue
-        e = net.edges()[eid]
+    for tk, nid, eid, se_k in _crossing_nodes(net, crossings, p0, line, snap):
         at_end = tk <= 1e-6 or tk >= 1 - 1e-6
         stroke_xyz = full.evaluate(tk)
-        pull = not at_end and e.curve_id not in OUTER_CURVES
-        nid = _node_at(net, eid, se_k, stroke_xyz, pull, snap)
-        if pull and nid in (e.node0, e.node1) and not net.is_outer_node(nid):
+        if nid < 0:
+            curve = net.edges()[eid].curve_id
+            pull = not at_end and curve not in OUTER_CURVES
+            nid = net.split_edge(eid, se_k, stroke_xyz, pull)
+            if pull:
+                work.pulled.add(curve)
+        elif not at_end and not net.is_outer_node(nid):
             net.move_node(nid, stroke_xyz)
-        if pull:
-            work.pulled.add(e.curve_id)
+            edges = net.edges()
+            work.pulled.update(edges[k].curve_id for k in net.incident_edges(nid)
+                               if edges[k].curve_id not in OUTER_CURVES)
         nodes.append((tk, nid))
     if len(nodes) < 2:
         raise StrokeRejectedError("its pre-image is shorter than the node spacing")

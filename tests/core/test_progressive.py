@@ -8,6 +8,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 from ProgSurf.core.network import OUTER_CURVES, PatchNetwork
 from ProgSurf.core.pipeline import build
+from ProgSurf.core.preimage import polygon_area
 from ProgSurf.core.progressive import add_stroke
 from ProgSurf.core.types import Tolerances
 from ProgSurf.io import read_strokes
@@ -195,6 +196,139 @@ def test_stroke_along_an_existing_curve_is_rejected_and_changes_nothing():
 def test_one_point_stroke_is_rejected_with_a_reason():
     rec = add_stroke(flat_network(), np.array([[50.0, 50, 0]]), 4, TOL, snap=1.0)
     assert rec.status == "rejected" and "at least 2" in rec.reason
+
+
+# ------------------------------------------------------------------ strokes through (nearly) one point
+def node_spacing(net: PatchNetwork) -> float:
+    """The smallest distance between two nodes in the pre-image plane."""
+    uv = np.array([net.node_uv(n) for n in net._nodes])
+    d = np.linalg.norm(uv[:, None] - uv[None], axis=2)
+    return float(d[~np.eye(len(uv), dtype=bool)].min())
+
+
+def smallest_area(net: PatchNetwork) -> float:
+    """The smallest region area in the pre-image plane (the unit square has area 1)."""
+    return min(polygon_area(net.region_polygon(rid)) for rid in net.region_ids)
+
+
+def curves_at(net: PatchNetwork, nid: int) -> set:
+    return {net.edges()[k].curve_id for k in net.incident_edges(nid)}
+
+
+def random_sketch(seed: int) -> list:
+    """A copy of tests/app/test_g1.py's generator (tests/core must not import FreeCAD): four
+    boundary strokes on z = height(x, y) over a w x h rectangle, then 2-3 interior strokes on the
+    same surface running (a little beyond) from one side to the opposite one."""
+    rng = np.random.default_rng(seed)
+    w, h = rng.uniform(60, 160, 2)
+    a, b = rng.uniform(-0.25, 0.25, 2)
+    height = lambda x, y: a * w * np.sin(np.pi * x / w) * np.sin(np.pi * y / h) + b * x + 0.1 * a * y
+    i = np.linspace(0, 1, 25)
+    on = lambda x, y: np.c_[x, y, height(x, y)]
+    strokes = [on(w * i, 0 * i), on(w + 0 * i, h * i), on(w * i[::-1], h + 0 * i), on(0 * i, h * i[::-1])]
+    for k in range(int(rng.integers(2, 4))):
+        t = np.linspace(-0.01, 1.01, 30)
+        p0, p1 = rng.uniform(0.2, 0.8, 2)
+        if k % 2 == 0:
+            x, y = w * (p0 + (p1 - p0) * t), h * t
+        else:
+            x, y = w * t, h * (p0 + (p1 - p0) * t)
+        strokes.append(on(x, y))
+    return strokes
+
+
+def test_random_sketch_12_three_strokes_near_one_point_meet_at_one_node():
+    # Its three interior strokes pass within 0.004 (pre-image) of one point; each used to cross
+    # the others at its own node, leaving nodes 0.0013 apart, a region of area 3e-6 and Coons
+    # sub-patches folded by more than 100 degrees at the seams.
+    strokes = random_sketch(12)
+    assert len(strokes) == 7
+    for k in range(5, 8):                  # the invariants after every interior stroke
+        r = build(strokes[:k], boundary=4)
+        rec = r.records[-1]
+        assert rec.status == "accepted", rec.reason
+        check_invariants(r.network, rec, r.tol.snap_mm)
+    net = r.network
+    assert node_spacing(net) > 0.05
+    assert smallest_area(net) > 1e-2
+    meeting = [n for n in net._nodes if {c for x in r.records[4:] for c in x.curve_ids} <= curves_at(net, n)]
+    assert len(meeting) == 1
+    assert len(net) == 6
+
+
+@pytest.mark.parametrize("curved", [False, True], ids=["flat", "curved"])
+def test_three_strokes_nearly_through_one_point_meet_at_one_node(curved):
+    bump = (lambda x, y: 10 * np.sin(np.pi * x / 100) * np.sin(np.pi * y / 100)) if curved else None
+    z = bump or (lambda x, y: 0 * x)
+    net = flat_network(height=bump)
+    # a vertical and a horizontal stroke through the centre, then a diagonal 0.3 mm above it
+    for k, (p, q) in enumerate((((50, -0.5), (50, 100.5)), ((-0.5, 50), (100.5, 50)),
+                                ((-0.5, 9.9), (100.5, 90.7)))):
+        pts = line((*p, 0), (*q, 0), 30)
+        pts[:, 2] = z(pts[:, 0], pts[:, 1])
+        rec = add_stroke(net, pts, 4 + k, TOL, snap=1.0)
+        assert rec.status == "accepted", rec.reason
+        check_invariants(net, rec, 1.0)
+    centre = [n for n in net._nodes if np.linalg.norm(net.node_uv(n) - 0.5) < 0.01]
+    assert len(centre) == 1 and curves_at(net, centre[0]) == {4, 5, 6}
+    assert len(net) == 6                   # four quadrants, two of them cut into triangles
+    assert node_spacing(net) > 0.05 and smallest_area(net) > 0.05
+    # later strokes win: the shared node lies on the last stroke
+    assert distance_to_polyline(net.node_xyz(centre[0]), rec.points) < 1e-6
+
+
+def test_free_end_extended_to_just_beside_a_node_ends_at_the_node():
+    net = flat_network()
+    for k, (p, q) in enumerate((((50, -0.5), (50, 100.5)), ((-0.5, 50), (100.5, 50)))):
+        assert add_stroke(net, line((*p, 0), (*q, 0)), 4 + k, TOL, snap=1.0).status == "accepted"
+    # a free stroke in the lower left quadrant, aimed 0.3 mm beside the centre node and the corner
+    rec = add_stroke(net, line((10, 10.3, 0), (40, 40.3, 0)), 6, TOL, snap=1.0)
+    assert rec.status == "accepted" and rec.ends == ("footpoint", "footpoint")
+    check_invariants(net, rec, 1.0)
+    ends = {n for e in net.edges().values() if e.curve_id == 6 for n in (e.node0, e.node1)}
+    assert {tuple(net.node_uv(n)) for n in ends} == {(0.0, 0.0), (0.5, 0.5)}
+    assert len(net) == 5 and node_spacing(net) > 0.4
+
+
+def test_stroke_end_out_of_reach_of_a_node_stays_where_it_was_drawn():
+    # The second stroke crosses the first 0.012 (0.23 mm) from where that one starts on the bottom
+    # side, then runs on at 4 degrees to end 2.5 mm further along the bottom. Going through the
+    # node must not drag the end there as well (found by Hypothesis).
+    net = flat_network(20.0, 20.0, n=15)
+    snap = 0.02 * np.hypot(20.0, 20.0)
+    assert add_stroke(net, line((15, 0, 0), (0, 20, 0), 2), 4, TOL, snap).status == "accepted"
+    rec = add_stroke(net, line((0, 1.25, 0), (17.5, 0, 0), 2), 5, TOL, snap)
+    assert rec.status == "accepted", rec.reason
+    check_invariants(net, rec, snap)
+    ends = {tuple(np.round(net.node_uv(n), 9)) for e in net.edges().values() if e.curve_id == 5
+            for n in (e.node0, e.node1)}
+    assert (0.875, 0.0) in ends
+
+
+def test_stroke_within_reach_of_two_joined_nodes_goes_through_one_of_them():
+    net = flat_network()
+    for k, (p, q) in enumerate((((40, -0.5), (40, 100.5)), ((60, -0.5), (60, 100.5)), ((-0.5, 50), (100.5, 50)))):
+        assert add_stroke(net, line((*p, 0), (*q, 0)), 4 + k, TOL, snap=2.0).status == "accepted"
+    # 0.3 mm above the node at x = 40 and 1.5 mm above the one at x = 60: going through both would
+    # run along curve 6 between them, so it goes through the first and crosses x = 60 beside it
+    rec = add_stroke(net, line((-0.5, 47.87, 0), (100.5, 53.93, 0), 40), 7, TOL, snap=2.0)
+    assert rec.status == "accepted", rec.reason
+    check_invariants(net, rec, 2.0)
+    left = [n for n in net._nodes if np.allclose(net.node_uv(n), [0.4, 0.5], atol=0.01)]
+    assert len(left) == 1 and curves_at(net, left[0]) == {4, 6, 7}
+    assert node_spacing(net) >= 0.01 and smallest_area(net) > 1e-3
+
+
+def test_stroke_redrawn_beside_a_curve_is_rejected_and_changes_nothing():
+    net = flat_network()
+    for k, (p, q) in enumerate((((40, -0.5), (40, 100.5)), ((60, -0.5), (60, 100.5)), ((-0.5, 50), (100.5, 50)))):
+        assert add_stroke(net, line((*p, 0), (*q, 0)), 4 + k, TOL, snap=1.0).status == "accepted"
+    before = state(net)
+    # 0.8 mm beside curve 6 (under the snap distance) all the way: no node spacing would be sane
+    rec = add_stroke(net, line((-0.5, 50.8, 0), (100.5, 50.8, 0)), 7, TOL, snap=1.0)
+    assert rec.status == "rejected" and "runs along curve 6" in rec.reason
+    assert state(net) == before
+    check_invariants(net)
 
 
 # ------------------------------------------------------------------ random progressive sketches
