@@ -178,6 +178,11 @@ class PatchNetwork:
         for name, value in zip(self._STATE, snap):
             setattr(self, name, dict(value))
         self._log = []
+        self._changed()
+
+    def _changed(self) -> None:
+        """Record that nodes, edges or regions changed (edges() keeps its views until then)."""
+        self.__dict__["_version"] = self.__dict__.get("_version", 0) + 1
 
     def clone(self) -> "PatchNetwork":
         """An independent copy that shares the immutable pieces."""
@@ -204,17 +209,20 @@ class PatchNetwork:
     def _add_node(self, uv: FloatArray, xyz: FloatArray) -> int:
         nid = self._new_id("node")
         self._nodes[nid] = _Node(np.array(uv, dtype=float), np.array(xyz, dtype=float))
+        self._changed()
         return nid
 
     def _add_edge(self, a: int, b: int, curve_id: int, poly: Polyline) -> int:
         eid = self._new_id("edge")
         self._edges[eid] = _Edge(a, b, curve_id, poly)
+        self._changed()
         self._edge_index[(a, b)] = (eid, False)
         self._edge_index[(b, a)] = (eid, True)
         return eid
 
     def _remove_edge(self, eid: int) -> _Edge:
         e = self._edges.pop(eid)
+        self._changed()
         self._edge_index.pop((e.n0, e.n1), None)
         self._edge_index.pop((e.n1, e.n0), None)
         return e
@@ -224,12 +232,14 @@ class PatchNetwork:
         poly = np.array([self._nodes[n].uv for n in cycle])
         idx = [i for i in turning_corners(poly)]
         self._regions[rid] = _Region(tuple(cycle), tuple(cycle[i] for i in idx))
+        self._changed()
         self._log.append(("created", rid))
         return rid
 
     def _remove_region(self, rid: int) -> _Region:
         self._log.append(("removed", rid))
         self._dirty([rid])
+        self._changed()
         return self._regions.pop(rid)
 
     def _dirty(self, rids) -> None:
@@ -337,6 +347,10 @@ class PatchNetwork:
     def edges(self) -> dict[int, EdgeView]:
         """Edge id -> EdgeView. Views are kept per edge while its (immutable) record and end nodes
         are the same objects: a stroke touches a few edges, so most views are reused."""
+        version = self.__dict__.get("_version", 0)
+        last = self.__dict__.get("_edges_view")
+        if last is not None and last[0] == version:
+            return dict(last[1])                  # a copy: callers may not change the cached one
         views = self.__dict__.setdefault("_views", {})
         nodes = self._nodes
         out = {}
@@ -349,7 +363,8 @@ class PatchNetwork:
             out[eid] = c[3]
         if len(views) > 2 * len(out) + 64:        # forget removed edges now and then
             self.__dict__["_views"] = {k: views[k] for k in out}
-        return out
+        self.__dict__["_edges_view"] = (version, out)
+        return dict(out)
 
     def curve_edges(self, curve_id: int) -> list[int]:
         return [eid for eid, e in self._edges.items() if e.curve_id == curve_id]
@@ -476,12 +491,12 @@ class PatchNetwork:
                 q = self.local_to_uv(rid, ss, rr)
                 fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
                 fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
-                self._facets[rid] = (fx, fu, prepare(fx))
+                self._facets[rid] = (fx, fu, prepare(fx), np.full(len(fx), rid))
             parts.append(self._facets[rid])
-            fx, fu, pre = self._facets[rid]
+            fx, fu, pre, owner = self._facets[rid]
             xyz.append(fx)
             uv.append(fu)
-            region.append(np.full(len(fx), rid))
+            region.append(owner)
             solver.append(pre)
         facets = Facets(np.concatenate(xyz), np.concatenate(uv), np.concatenate(region),
                         tuple(np.concatenate([p[k] for p in solver]) for k in range(3)))
@@ -561,6 +576,7 @@ class PatchNetwork:
                     cyc.insert(k + 1, m)
                     break
             self._regions[rid] = _Region(tuple(cyc), reg.corners)
+            self._changed()
         self._dirty(rids)
         return m
 
@@ -569,11 +585,13 @@ class PatchNetwork:
         node = self._nodes[nid]
         delta = np.asarray(xyz, dtype=float) - node.xyz
         self._nodes[nid] = _Node(node.uv, np.asarray(xyz, dtype=float))
+        self._changed()
         for eid in self.incident_edges(nid):
             e = self._edges[eid]
             d0 = delta if e.n0 == nid else np.zeros(3)
             d1 = delta if e.n1 == nid else np.zeros(3)
             self._edges[eid] = _Edge(e.n0, e.n1, e.curve_id, _ramp(e.polyline, d0, d1))
+            self._changed()
             self._dirty(self.regions_with_edge(e.n0, e.n1))
 
     def add_chord(self, rid: int, a: int, b: int, curve_id: int, poly: Polyline) -> tuple[int, int]:
