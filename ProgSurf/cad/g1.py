@@ -154,8 +154,9 @@ class _Seams:
                 out *= x * x * (3.0 - 2.0 * x)
         return out
 
-    def normal(self, edge_id: int, t: float) -> FloatArray | None:
-        """Common normal of the seam at edge parameter t (node normals blended in at the ends)."""
+    def _pair(self, edge_id: int, t: float):
+        """The two G0 faces' unit normals and the seam tangent at edge parameter t (None if both
+        normals are undefined)."""
         (fa, ka, pa), (fb, kb, pb) = self.uses[edge_id]
         normals = []
         for f, k, p in ((fa, ka, pa), (fb, kb, pb)):
@@ -165,11 +166,24 @@ class _Seams:
             return None
         na = normals[0] if normals[0] is not None else normals[1]
         nb = normals[1] if normals[1] is not None else normals[0]
-        e = self.edges[edge_id]
         w = pa.a + ((1.0 - t) if pa.reversed else t) * (pa.b - pa.a)
         tangent = _derivs(fa.surface, *SIDE_PARAM[ka](w))[0 if ka in (0, 2) else 1]
+        return na, nb, tangent
+
+    def normal(self, edge_id: int, t: float) -> FloatArray | None:
+        """Common normal of the seam at edge parameter t: the mean of the faces' normals, plus the
+        differences to the node normals at the seam's ends distributed linearly along it. (Evaluated
+        with the seam's ends, so that the blend moves the mean by its difference AT the ends; one
+        sample alone blended the normal at t itself towards the node normals.)"""
+        here = self._pair(edge_id, t)
+        if here is None:
+            return None
+        e = self.edges[edge_id]
         n0, n1 = (self._node_target(e.node0), self._node_target(e.node1))
-        return g1.common_normals(na[None], nb[None], tangent[None], np.array([t]), n0, n1)[0]
+        ends = [self._pair(edge_id, x) if (n0 if x == 0.0 else n1) is not None else None for x in (0.0, 1.0)]
+        rows = [ends[0] or here, here, ends[1] or here]
+        na, nb, tan = (np.array([r[i] for r in rows]) for i in range(3))
+        return g1.common_normals(na, nb, tan, np.array([0.0, t, 1.0]), n0, n1)[1]
 
 
 def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:

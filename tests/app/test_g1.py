@@ -97,7 +97,8 @@ def test_sharp_features_are_found_by_rule_and_kept(case, request):
         if s1.sharp:                       # a kinked seam keeps its G0 crease
             assert s1.angle_max_deg == pytest.approx(s0.angle_max_deg, abs=0.05)
         # a sharp node (corner normals spread > 1 deg) keeps its crease: G1 does not hide it
-        if max(s1.node_spread_deg) > 5.0:
+        # (on seams with a real G0 crease: a flat seam's 1e-6 deg are rounding, on both sides)
+        if max(s1.node_spread_deg) > 5.0 and s0.angle_max_deg > 0.1:
             assert s1.angle_max_deg >= 0.5 * s0.angle_max_deg
 
 
