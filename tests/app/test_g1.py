@@ -57,7 +57,9 @@ class Case:
 
 def _cases():
     out = [(name, bc) for name, bc in EXAMPLES.items()]
-    out += [(f"random{seed}", seed) for seed in (1, 7)]
+    # 8, 9 and 12 missed the targets before (thin triangles at a three-curve node; a flux fit ringing
+    # in knot spans without samples; strokes nearly through one point): kept as regressions
+    out += [(f"random{seed}", seed) for seed in (1, 7, 8, 9, 12)]
     return out
 
 
