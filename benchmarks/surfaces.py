@@ -124,3 +124,26 @@ def grow_networks(z: Height, targets: list[int], seed: int = 1, tol: Tolerances 
         else:
             counts["accepted"] += 1
     return out, counts
+
+
+def random_sketch(seed: int) -> list:
+    """A random progressive sketch (tests/app/test_g1.py, tests/core/test_progressive.py,
+    examples/g1_trial.py): four boundary strokes on z = height(x, y) over a w x h rectangle, then
+    2-3 interior strokes on the same surface running (a little beyond) from one side to the
+    opposite one."""
+    rng = np.random.default_rng(seed)
+    w, h = rng.uniform(60, 160, 2)
+    a, b = rng.uniform(-0.25, 0.25, 2)
+    height = lambda x, y: a * w * np.sin(np.pi * x / w) * np.sin(np.pi * y / h) + b * x + 0.1 * a * y
+    i = np.linspace(0, 1, 25)
+    on = lambda x, y: np.c_[x, y, height(x, y)]
+    strokes = [on(w * i, 0 * i), on(w + 0 * i, h * i), on(w * i[::-1], h + 0 * i), on(0 * i, h * i[::-1])]
+    for k in range(int(rng.integers(2, 4))):
+        t = np.linspace(-0.01, 1.01, 30)
+        p0, p1 = rng.uniform(0.2, 0.8, 2)
+        if k % 2 == 0:
+            x, y = w * (p0 + (p1 - p0) * t), h * t
+        else:
+            x, y = w * t, h * (p0 + (p1 - p0) * t)
+        strokes.append(on(x, y))
+    return strokes

@@ -2,7 +2,7 @@
 
     /usr/bin/python3 examples/g1_trial.py [--seeds 12] [--noise 0 0.08]
 
-The sketches are tests/app/test_g1.random_sketch(seed) (four boundary strokes on a random height
+The sketches are benchmarks.surfaces.random_sketch(seed) (four boundary strokes on a random height
 field, 2-3 interior strokes across it), optionally with Gaussian jitter (mm) on every point. Per
 sketch it prints the largest seam angle away from sharp features in G0 and G1, the worst per-seam
 median in G1, the number of sharp seams, whether the G1 shell is valid, the build times, and OK when
@@ -26,7 +26,8 @@ import numpy as np  # noqa: E402
 from ProgSurf import cad  # noqa: E402
 from ProgSurf.core.errors import ProgSurfError  # noqa: E402
 from ProgSurf.core.pipeline import build  # noqa: E402
-from test_g1 import MAX_DEG, MEDIAN_DEG, random_sketch  # noqa: E402
+from benchmarks.surfaces import random_sketch  # noqa: E402
+from test_g1 import MAX_DEG, MEDIAN_DEG  # noqa: E402
 
 
 def main(argv=None) -> int:

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
+from benchmarks.surfaces import random_sketch
 from ProgSurf.core.network import OUTER_CURVES, PatchNetwork
 from ProgSurf.core.pipeline import build
 from ProgSurf.core.preimage import polygon_area
@@ -213,28 +214,6 @@ def smallest_area(net: PatchNetwork) -> float:
 
 def curves_at(net: PatchNetwork, nid: int) -> set:
     return {net.edges()[k].curve_id for k in net.incident_edges(nid)}
-
-
-def random_sketch(seed: int) -> list:
-    """A copy of tests/app/test_g1.py's generator (tests/core must not import FreeCAD): four
-    boundary strokes on z = height(x, y) over a w x h rectangle, then 2-3 interior strokes on the
-    same surface running (a little beyond) from one side to the opposite one."""
-    rng = np.random.default_rng(seed)
-    w, h = rng.uniform(60, 160, 2)
-    a, b = rng.uniform(-0.25, 0.25, 2)
-    height = lambda x, y: a * w * np.sin(np.pi * x / w) * np.sin(np.pi * y / h) + b * x + 0.1 * a * y
-    i = np.linspace(0, 1, 25)
-    on = lambda x, y: np.c_[x, y, height(x, y)]
-    strokes = [on(w * i, 0 * i), on(w + 0 * i, h * i), on(w * i[::-1], h + 0 * i), on(0 * i, h * i[::-1])]
-    for k in range(int(rng.integers(2, 4))):
-        t = np.linspace(-0.01, 1.01, 30)
-        p0, p1 = rng.uniform(0.2, 0.8, 2)
-        if k % 2 == 0:
-            x, y = w * (p0 + (p1 - p0) * t), h * t
-        else:
-            x, y = w * t, h * (p0 + (p1 - p0) * t)
-        strokes.append(on(x, y))
-    return strokes
 
 
 def test_random_sketch_12_three_strokes_near_one_point_meet_at_one_node():
