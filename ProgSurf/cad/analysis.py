@@ -59,6 +59,23 @@ def _unit_normal(surface, s: float, r: float) -> FloatArray | None:
     return None if length <= 1e-6 * max(scale, 1e-300) else n / length
 
 
+def _seam_samples(a: tuple, b: tuple, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Gap (mm) and normal angle (deg; NaN where a face's normal is undefined) at the seam's edge
+    parameters t, between the faces a and b, each given as (FaceInfo, side index, SidePiece)."""
+    (fa, ka, pa), (fb, kb, pb) = a, b
+    gaps, angles = np.empty(len(t)), np.full(len(t), np.nan)
+    for i, x in enumerate(t):
+        sa, ra = _side_point(fa, ka, pa, x)
+        sb, rb = _side_point(fb, kb, pb, x)
+        qa = np.array(tuple(fa.surface.value(sa, ra)))
+        qb = np.array(tuple(fb.surface.value(sb, rb)))
+        gaps[i] = float(np.linalg.norm(qa - qb))
+        na, nb = _unit_normal(fa.surface, sa, ra), _unit_normal(fb.surface, sb, rb)
+        if na is not None and nb is not None:
+            angles[i] = float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0))))
+    return gaps, angles
+
+
 def seam_stats(result, samples: int = 64) -> list[SeamStat]:
     """Gap and normal angle along every edge shared by two faces, sampled at `samples` points."""
     out = []
@@ -66,19 +83,11 @@ def seam_stats(result, samples: int = 64) -> list[SeamStat]:
     for eid, uses in sorted(_edge_uses(result).items()):
         if len(uses) != 2:
             continue
-        (fa, ka, pa), (fb, kb, pb) = uses
-        gaps, angles = [], []
-        for x in t:
-            sa, ra = _side_point(fa, ka, pa, x)
-            sb, rb = _side_point(fb, kb, pb, x)
-            qa = np.array(tuple(fa.surface.value(sa, ra)))
-            qb = np.array(tuple(fb.surface.value(sb, rb)))
-            gaps.append(float(np.linalg.norm(qa - qb)))
-            na, nb = _unit_normal(fa.surface, sa, ra), _unit_normal(fb.surface, sb, rb)
-            if na is not None and nb is not None:
-                angles.append(float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0)))))
-        out.append(SeamStat(eid, fa.region_id, fb.region_id, max(gaps),
-                            max(angles, default=0.0), float(np.median(angles)) if angles else 0.0))
+        gaps, angles = _seam_samples(uses[0], uses[1], t)
+        angles = angles[~np.isnan(angles)]
+        out.append(SeamStat(eid, uses[0][0].region_id, uses[1][0].region_id, float(gaps.max()),
+                            float(angles.max()) if len(angles) else 0.0,
+                            float(np.median(angles)) if len(angles) else 0.0))
     return out
 
 
@@ -235,7 +244,7 @@ def g1_seam_stats(result, network, samples: int = 128) -> list[G1SeamStat]:
     for eid, uses in sorted(_edge_uses(result).items()):
         if len(uses) != 2:
             continue
-        (fa, ka, pa), (fb, kb, pb) = uses
+        fa, fb = uses[0][0], uses[1][0]
         e = edges[eid]
         spread = (spreads.get(e.node0, 0.0), spreads.get(e.node1, 0.0))
         keep = np.ones(samples, dtype=bool)
@@ -243,22 +252,15 @@ def g1_seam_stats(result, network, samples: int = 128) -> list[G1SeamStat]:
             keep &= t > SHARP_NODE_ZONE
         if spread[1] > SHARP_NODE_DEG:
             keep &= t < 1.0 - SHARP_NODE_ZONE
-        gaps, angles, kept = [], [], []
-        for x, k in zip(t, keep):
-            sa, ra = _side_point(fa, ka, pa, x)
-            sb, rb = _side_point(fb, kb, pb, x)
-            gaps.append(float(np.linalg.norm(np.array(tuple(fa.surface.value(sa, ra)))
-                                             - np.array(tuple(fb.surface.value(sb, rb))))))
-            na, nb = _unit_normal(fa.surface, sa, ra), _unit_normal(fb.surface, sb, rb)
-            if na is not None and nb is not None:
-                a = float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0))))
-                angles.append(a)
-                if k:
-                    kept.append(a)
+        gaps, angles = _seam_samples(uses[0], uses[1], t)
+        defined = ~np.isnan(angles)
+        kept = angles[defined & keep]
+        angles = angles[defined]
         is_sharp = eid in sharp
-        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, max(gaps), max(angles, default=0.0),
-                              float(np.median(angles)) if angles else 0.0, is_sharp,
-                              0.0 if is_sharp else max(kept, default=0.0), spread))
+        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, float(gaps.max()),
+                              float(angles.max()) if len(angles) else 0.0,
+                              float(np.median(angles)) if len(angles) else 0.0, is_sharp,
+                              0.0 if is_sharp or not len(kept) else float(kept.max()), spread))
     return out
 
 
