@@ -13,7 +13,8 @@ from .boundary import BoundaryLoop, make_boundary
 from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
-from .strokes import auto_filter_threshold, filter_stroke, sketch_diagonal, validate_stroke
+from .strokes import (auto_filter_threshold, filter_stroke, segment_projections, sketch_diagonal,
+                      validate_stroke)
 from .types import Polyline, Tolerances
 
 SNAP_FRACTION = 0.02
@@ -65,12 +66,7 @@ def resolve_tolerances(strokes: Sequence[np.ndarray], tol: Tolerances) -> Tolera
 
 def _fair_deviation(original: np.ndarray, faired: np.ndarray) -> float:
     """Largest distance from the original points to the faired polyline."""
-    a, b = faired[:-1], faired[1:]
-    ab = b - a
-    ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
-    w = np.clip(np.einsum("kij,ij->ki", original[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
-    d = np.linalg.norm(a[None] + w[..., None] * ab[None] - original[:, None, :], axis=2)
-    return float(d.min(axis=1).max())
+    return float(segment_projections(original, faired)[1].min(axis=1).max())
 
 
 def _kept_points(raw: np.ndarray, parts: list) -> np.ndarray:
@@ -81,14 +77,10 @@ def _kept_points(raw: np.ndarray, parts: list) -> np.ndarray:
         return raw
     keep = np.zeros(len(raw), dtype=bool)
     for piece in parts:
-        a, b = piece[:-1], piece[1:]
-        ab = b - a
-        ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
-        w = np.clip(np.einsum("kij,ij->ki", raw[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
-        d = np.linalg.norm(a[None] + w[..., None] * ab[None] - raw[:, None, :], axis=2)
+        w, d = segment_projections(raw, piece)
         j = d.argmin(axis=1)
         wj = w[np.arange(len(raw)), j]
-        at_end = ((j == 0) & (wj <= 0.0)) | ((j == len(ab) - 1) & (wj >= 1.0))
+        at_end = ((j == 0) & (wj <= 0.0)) | ((j == len(piece) - 2) & (wj >= 1.0))
         keep |= ~at_end
     return raw[keep] if keep.any() else raw
 

@@ -74,6 +74,18 @@ def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike) -> FloatArray:
     return np.stack([np.interp(s, cum, pts[:, k]) for k in range(pts.shape[1])], axis=-1)
 
 
+def segment_projections(points: npt.ArrayLike, polyline: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Every point projected onto every segment of a polyline: the clamped segment parameter
+    w (k, m) in [0, 1] and the distance d (k, m), for k points and m segments."""
+    pts = np.asarray(points, dtype=float)
+    poly = np.asarray(polyline, dtype=float)
+    a, ab = poly[:-1], np.diff(poly, axis=0)
+    ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+    w = np.clip(np.einsum("kij,ij->ki", pts[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
+    d = np.linalg.norm(a[None] + w[..., None] * ab[None] - pts[:, None, :], axis=2)
+    return w, d
+
+
 def sketch_diagonal(points: npt.ArrayLike) -> float:
     """Diagonal of the bounding box of `points` (n, 3) in its own principal axes.
 
