@@ -314,22 +314,24 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
         infos.append(info)
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": (reused, built)}
+    timings = {"fit_edges": t1 - t0, "faces": t2 - t1}
+    g0_faces, sharp = (), frozenset()
     if continuity == "G1":
-        res = _g1_shell(network, tuple(infos), curves, {"fit_edges": t1 - t0, "faces": t2 - t1}, old, cache)
-        return ShellResult(res.shape, res.faces, res.edge_curves, res.timings_s, res.continuity,
-                           res.sharp_edges, res.g0_faces, cache, counts)
-    shape = sew([i.face for i in infos])
+        g0_faces = tuple(infos)
+        infos, sharp = _g1_faces(network, g0_faces, old, cache)
+        timings["g1"] = time.perf_counter() - t2
     t3 = time.perf_counter()
-    return ShellResult(shape, tuple(infos), curves,
-                       {"fit_edges": t1 - t0, "faces": t2 - t1, "sew": t3 - t2}, cache=cache, reused=counts)
+    shape = sew([i.face for i in infos])
+    timings["sew"] = time.perf_counter() - t3
+    return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts)
 
 
-def _g1_shell(network, g0_infos: tuple, curves: dict, timings: dict, cache: dict | None = None,
-              keep: dict | None = None) -> ShellResult:
-    """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries, sewn."""
+def _g1_faces(network, g0_infos: tuple, cache: dict, keep: dict) -> tuple[list, frozenset]:
+    """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries (cad.g1), and the
+    ids of the seams kept sharp. G1 faces are taken from `cache` where their inputs are unchanged;
+    this build's are put in `keep`."""
     from .g1 import smooth_faces
 
-    t0 = time.perf_counter()
     smooth, sharp = smooth_faces(g0_infos, network, cache=cache, keep=keep)
     infos = []
     for info, g in zip(g0_infos, smooth):
@@ -337,11 +339,7 @@ def _g1_shell(network, g0_infos: tuple, curves: dict, timings: dict, cache: dict
         if not face.isValid():
             raise FitError(f"OCC made an invalid G1 face for region {info.region_id}; use continuity G0")
         infos.append(FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
-    t1 = time.perf_counter()
-    shape = sew([i.face for i in infos])
-    t2 = time.perf_counter()
-    return ShellResult(shape, tuple(infos), curves, dict(timings, g1=t1 - t0, sew=t2 - t1),
-                       "G1", sharp, g0_infos)
+    return infos, sharp
 
 
 def sew(faces: list):
