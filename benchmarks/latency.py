@@ -7,8 +7,10 @@ surface, the NEXT stroke is timed on fresh clones of the network (the clone is n
 - full shell  : add_stroke + ProgSurf.cad.build_shell of the whole network from nothing: every
                 edge curve refitted, every face rebuilt, all sewn;
 - incremental : add_stroke + cad.build_shell(..., previous=the network's shell), what the document
-                object does on recompute: curves and faces whose inputs did not change are reused,
-                the others fitted and built, and the whole shell re-sewn;
+                object does on recompute: curves and faces whose inputs did not change are reused;
+                of a curve the stroke split or pulled only the changed edges are refitted (joined
+                C2 to the kept pieces); the faces along changed edges are built again and sewn
+                into the kept, already sewn faces;
 - G1          : the same incremental update in G1 mode from the network's G1 shell: G1 faces whose
                 G0 face and neighbours are unchanged are reused; the difference to the incremental
                 column is the time G1 adds per stroke.

@@ -23,14 +23,17 @@ from .fit import DEGREE, fit_cubic
 
 def to_vectors(points: FloatArray) -> list:
     """(n, 3) float -> list of FreeCAD.Vector."""
-    return [Vector(*map(float, p)) for p in np.asarray(points, dtype=float).reshape(-1, 3)]
+    return [Vector(*p) for p in np.asarray(points, dtype=float).reshape(-1, 3).tolist()]
 
 
 def to_array(vectors: Iterable) -> FloatArray:
     """FreeCAD.Vector, or (nested) sequences of them -> float array (..., 3)."""
-    def conv(x):
-        return [x.x, x.y, x.z] if hasattr(x, "x") else [conv(y) for y in x]
-    return np.array(conv(vectors if hasattr(vectors, "x") else list(vectors)), dtype=float)
+    if hasattr(vectors, "x"):
+        return np.array([vectors.x, vectors.y, vectors.z], dtype=float)
+    items = list(vectors)
+    if items and hasattr(items[0], "x"):     # the common flat case, without recursion
+        return np.array([(v.x, v.y, v.z) for v in items], dtype=float).reshape(-1, 3)
+    return np.array([to_array(y) for y in items], dtype=float)
 
 
 def curve_points(curve, t: FloatArray) -> FloatArray:
@@ -64,10 +67,11 @@ def bspline(knots: FloatArray, poles: FloatArray, degree: int = DEGREE):
 
 
 def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
-               name: str = "curve", breaks=()):
+               name: str = "curve", breaks=(), derivs: dict | None = None):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
     at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
-    included). Two points (or all coincident) give a straight segment.
+    included), and with the end derivatives `derivs` if given (cad.fit.fit_cubic). Two points
+    (or all coincident) give a straight segment, unless end derivatives are asked for.
     Raises FitError when no cubic B-spline within tol_mm is found."""
     prm = np.asarray(params, dtype=float)
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
@@ -78,9 +82,9 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
         raise FitError(f"{name} has {len(pts)} point; a curve needs at least 2")
     ft = np.array(sorted(fixed))
     fp = np.array([fixed[k] for k in ft], dtype=float)
-    if (len(pts) == 2 and len(ft) == 2) or np.ptp(np.vstack([pts, fp]), axis=0).max() <= 1e-12:
+    if np.ptp(np.vstack([pts, fp]), axis=0).max() <= 1e-12 or (len(pts) == 2 and len(ft) == 2 and not derivs):
         return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
-    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks)
+    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs)
     return bspline(knots, poles)
 
 
@@ -177,21 +181,27 @@ def make_compatible(curves: Sequence) -> list:
     for c in out:
         if c.Degree < degree:
             c.increaseDegree(degree)
-    merged: dict = {}
-    for c in out:
-        for k, m in zip(*_knots_mults(c)):
-            key = next((q for q in merged if abs(q - k) <= 1e-10), k)
-            merged[key] = max(merged.get(key, 0), m)
-    for c in out:
-        ks, ms = _knots_mults(c)
+    have = [dict(zip(*_knots_mults(c))) for c in out]
+    merged: dict = {}     # knot -> largest multiplicity in any curve
+    for knots in have:
+        for k, m in knots.items():
+            merged[k] = max(merged.get(k, 0), m)
+    values = sorted(merged)
+    groups: list = []     # runs of knots within 1e-10 of the run's first
+    for k in values:
+        if groups and k - groups[-1][0] <= 1e-10:
+            groups[-1].append(k)
+        else:
+            groups.append([k])
+    need = [max(merged[k] for k in g) for g in groups]
+    for c, knots in zip(out, have):
         todo = []
-        for k, m in merged.items():
-            if not 0.0 < k < 1.0:
+        for g, m in zip(groups, need):
+            if not 0.0 < g[0] < 1.0:
                 continue
-            have = next((mm for kk, mm in zip(ks, ms) if abs(kk - k) <= 1e-10), 0)
-            if m > have:
-                todo.append((k, m - have))
+            got = knots.get(g[0], 0) if len(g) == 1 else max((knots[k] for k in g if k in knots), default=0)
+            if m > got:
+                todo.append((g[0], m - got))
         if todo:
-            todo.sort()
             c.insertKnots([k for k, _ in todo], [m for _, m in todo], 1e-10, True)
     return out

@@ -80,6 +80,6 @@ def coons_surface(bottom, right, top, left):
     (Qin & Wright Eq. 1); S(s,0) = bottom(s), S(1,r) = right(r), S(s,1) = top(s), S(0,r) = left(r)."""
     poles, u, v = coons_poles(bottom, right, top, left)
     surface = Part.BSplineSurface()
-    surface.buildFromPolesMultsKnots([to_vectors(row) for row in poles], u.mults, v.mults,
+    surface.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), u.mults, v.mults,
                                      u.knots, v.knots, False, False, u.degree, v.degree)
     return surface

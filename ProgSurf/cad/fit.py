@@ -17,18 +17,64 @@ from ..core.types import FloatArray
 __all__ = ["DEGREE", "basis_matrix", "fit_cubic"]
 
 
-def _solve(knots, t, pts, fixed_t, fixed_p, lam, weights):
-    a = basis_matrix(knots, t) * weights[:, None]
-    pts = pts * weights[:, None]
-    c = basis_matrix(knots, fixed_t)
+def _end_poles(knots: FloatArray, end_points: tuple, derivs: dict | None) -> dict | None:
+    """Poles fixed by end derivatives: {pole index: (3,) pole}. At a clamped end the curve's
+    first and second derivatives depend only on the first two and three poles (Piegl & Tiller
+    eq. 3.8), so C(0), C'(0), C''(0) given fix P0, P1, P2 outright (likewise at t = 1).
+    end_points: (C(0), C(1)). None when the knot vector has too few poles for both ends."""
+    out: dict = {}
+    n = len(knots) - DEGREE - 1
+    for end, values in (derivs or {}).items():
+        d1, d2 = values
+        at_one = end >= 0.5
+        ks = 1.0 - knots[::-1] if at_one else knots     # at t = 1: the mirrored curve C(1 - t)
+        sign = -1.0 if at_one else 1.0
+        u4, u5 = ks[DEGREE + 1], ks[DEGREE + 2]
+        p0 = np.asarray(end_points[1 if at_one else 0], dtype=float)
+        poles = [p0, p0 + sign * np.asarray(d1, dtype=float) * u4 / DEGREE]
+        if d2 is not None:
+            q1 = sign * np.asarray(d1, dtype=float) + np.asarray(d2, dtype=float) * u4 / (DEGREE - 1)
+            poles.append(poles[1] + q1 * u5 / DEGREE)
+        for k, pole in enumerate(poles):
+            idx = n - 1 - k if at_one else k
+            if idx in out:
+                return None
+            out[idx] = pole
+    return out
+
+
+def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
+    """Poles minimising |a P - pts|^2 + lam |second differences of P|^2 with c P = fixed_p exactly
+    (KKT); a and c are basis matrices at the data and the fixed parameters; `end_poles`
+    {index: pole} are given. exact False: a faster solve (LU, 5x), for the refinement rounds
+    that only decide where knots go."""
     n = a.shape[1]
     d = np.diff(np.eye(n), n=2, axis=0) if n >= 3 else np.zeros((0, n))
+    known = np.zeros((n, 3))
+    free = np.ones(n, dtype=bool)
+    for idx, pole in (end_poles or {}).items():
+        known[idx], free[idx] = pole, False
+    pts = pts - a @ known
+    fixed_p = np.asarray(fixed_p, dtype=float).reshape(-1, 3) - c @ known
+    smooth = -(d @ known)
+    a, c, d = a[:, free], c[:, free], d[:, free]
+    rows = np.abs(c).sum(axis=1) > 1e-12          # a point constraint on given poles only is met
+    c, fixed_p = c[rows], fixed_p[rows]
     h = a.T @ a + lam * d.T @ d
-    k = len(fixed_t)
+    k = c.shape[0]
     kkt = np.block([[2.0 * h, c.T], [c, np.zeros((k, k))]])
-    rhs = np.vstack([2.0 * a.T @ pts, fixed_p])
-    sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
-    return sol[:n]
+    rhs = np.vstack([2.0 * (a.T @ pts + lam * d.T @ smooth), fixed_p])
+    if exact:
+        # minimum-norm least squares: with two nodes in one knot span the system is (nearly)
+        # singular, and this is the solution the knot refinement recovers from
+        sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
+    else:
+        try:
+            sol = np.linalg.solve(kkt, rhs)
+        except np.linalg.LinAlgError:
+            sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
+    known[free] = sol[:free.sum()]
+    return known
 
 
 def _polyline_at(t: FloatArray, pts: FloatArray, x: FloatArray) -> FloatArray:
@@ -45,11 +91,15 @@ def _samples(t: FloatArray, interior: FloatArray, per_span: int = 4) -> FloatArr
 
 
 def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: FloatArray, tol: float,
-              name: str = "curve", max_rounds: int = 40, breaks=()) -> tuple[FloatArray, FloatArray]:
+              name: str = "curve", max_rounds: int = 40, breaks=(), derivs: dict | None = None
+              ) -> tuple[FloatArray, FloatArray]:
     """Cubic B-spline C through fixed_p at fixed_t and within tol of the piecewise-linear polyline
     (t, pts) everywhere it is sampled (params in [0, 1]): the Coons sub-patch is built on that
     polyline, so the curve must follow it between the vertices too. Knots are refined where the
     residual exceeds tol; near a corner of the polyline they crowd until the smooth curve hugs it.
+
+    derivs : {0.0 and/or 1.0: (first derivative, second derivative or None)} the curve must have at
+             that end (to join a neighbouring curve C1 or C2 when only a part of a curve is refitted).
 
     Returns (full clamped knot vector, poles (n, 3)). Raises FitError if refinement does not reach tol.
     """
@@ -64,11 +114,20 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         x = _samples(t, interior)
         data = _polyline_at(t, pts, x)
         lam = 1e-8 * len(x)
-        poles = _solve(knots, x, data, fixed_t, fixed_p, lam, np.ones(len(x)))
-        res = np.linalg.norm(basis_matrix(knots, x) @ poles - data, axis=1)
-        fres = np.linalg.norm(basis_matrix(knots, fixed_t) @ poles - fixed_p, axis=1)
-        if res.max() <= tol and fres.max() <= 1e-9 * scale:
-            return knots, poles
+        end_poles = _end_poles(knots, (fixed_p[0], fixed_p[-1]), derivs)
+        if end_poles is None:     # too few poles for the end derivatives: split every span
+            bounds = np.concatenate([[0.0], interior, [1.0]])
+            interior = np.sort(np.concatenate([interior, 0.5 * (bounds[1:] + bounds[:-1])]))
+            continue
+        a, c = basis_matrix(knots, x), basis_matrix(knots, fixed_t)
+        for exact in (False, True):   # the fast solve finds the knots, least squares the result
+            poles = _solve(a, c, data, fixed_p, lam, end_poles, exact)
+            res = np.linalg.norm(a @ poles - data, axis=1)
+            fres = np.linalg.norm(c @ poles - fixed_p, axis=1)
+            if not (res.max() <= tol and fres.max() <= 1e-9 * scale):
+                break
+            if exact:
+                return knots, poles
         bounds = np.concatenate([[0.0], interior, [1.0]])
         # refine where the polyline is missed, and around nodes the curve cannot pass through yet
         # (two nodes close together on one curve need a knot between them)

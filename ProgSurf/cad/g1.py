@@ -23,7 +23,7 @@ import numpy as np
 from ..core import continuity as g1
 from ..core.types import FloatArray
 from ._occ import Part
-from .curves import to_array, to_vectors
+from .curves import to_array
 from .fit import basis_matrix
 
 MIN_SPANS = 16
@@ -263,7 +263,7 @@ def smooth_face(info, network, seams: _Seams) -> G1Face:
         delta -= bu[:, None, None] * bv[None, :, None] * t
     poles = to_array(surface.getPoles()) + delta
     out = Part.BSplineSurface()
-    out.buildFromPolesMultsKnots([to_vectors(row) for row in poles], surface.getUMultiplicities(),
+    out.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), surface.getUMultiplicities(),
                                  surface.getVMultiplicities(), surface.getUKnots(), surface.getVKnots(),
                                  False, False, 3, 3)
     offset = float(np.linalg.norm(delta, axis=-1).max())   # convex hull bound of |S1 - S0|

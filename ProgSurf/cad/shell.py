@@ -129,12 +129,28 @@ KINK_DEGREES = 3.0
 """A network curve turning by more than this at a node is fitted with a C0 knot there."""
 
 
-def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int) -> dict:
+def _chain_points(e, rev: bool) -> FloatArray:
+    return (e.polyline.reversed() if rev else e.polyline).points
+
+
+def _kink(a, ra: bool, b, rb: bool) -> bool:
+    """True where the network curve turns by more than KINK_DEGREES from edge a into edge b."""
+    pa, pb = _chain_points(a, ra), _chain_points(b, rb)
+    din, dout = pa[-1] - pa[-2], pb[1] - pb[0]
+    cos = float(din @ dout) / max(float(np.linalg.norm(din) * np.linalg.norm(dout)), 1e-300)
+    return cos < np.cos(np.radians(KINK_DEGREES))
+
+
+def _uv_length(e) -> float:
+    return max(float(np.linalg.norm(np.asarray(e.uv1) - np.asarray(e.uv0))), 1e-12)
+
+
+def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: dict | None = None) -> dict:
     """Fit one network curve (a chain of edges) once, through all its nodes; cut it into the edges.
     The curve parameter is the cumulative pre-image (uv) length, which is how the network
-    parametrises region sides, so the pieces re-join smoothly on a side."""
-    lengths = np.array([max(float(np.linalg.norm(np.asarray(e.uv1) - np.asarray(e.uv0))), 1e-12)
-                        for e, _ in chain])
+    parametrises region sides, so the pieces re-join smoothly on a side.
+    derivs: end derivatives the fit must have (see cad.fit.fit_cubic), for a part of a curve."""
+    lengths = np.array([_uv_length(e) for e, _ in chain])
     cum = np.concatenate([[0.0], np.cumsum(lengths)]) / lengths.sum()
     params, points, fixed = [], [], {}
     for k, (e, rev) in enumerate(chain):
@@ -145,17 +161,9 @@ def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int) -> dict:
         fixed[float(cum[k])] = nodes[e.node1 if rev else e.node0]
         fixed[float(cum[k + 1])] = nodes[e.node0 if rev else e.node1]
     fixed[0.0], fixed[1.0] = fixed.pop(float(cum[0])), fixed.pop(float(cum[-1]))
-    breaks = []
-    for k in range(1, len(chain)):
-        (a, ra), (b, rb) = chain[k - 1], chain[k]
-        pa = (a.polyline.reversed() if ra else a.polyline).points
-        pb = (b.polyline.reversed() if rb else b.polyline).points
-        din, dout = pa[-1] - pa[-2], pb[1] - pb[0]
-        cos = float(din @ dout) / max(float(np.linalg.norm(din) * np.linalg.norm(dout)), 1e-300)
-        if cos < np.cos(np.radians(KINK_DEGREES)):
-            breaks.append(float(cum[k]))
+    breaks = [float(cum[k]) for k in range(1, len(chain)) if _kink(*chain[k - 1], *chain[k])]
     curve = fit_points(np.concatenate(params), np.vstack(points), tol_mm, fixed, name=f"curve {curve_id}",
-                       breaks=breaks)
+                       breaks=breaks, derivs=derivs)
     out = {}
     for k, (e, rev) in enumerate(chain):
         piece = unit_segment(curve, float(cum[k]), float(cum[k + 1]))
@@ -163,6 +171,44 @@ def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int) -> dict:
             piece.reverse()
             piece = unit_segment(piece, piece.FirstParameter, piece.LastParameter)
         out[e.id] = piece
+    return out
+
+
+def _end_derivatives(piece, rev: bool, at_chain_end: bool, scale: float) -> tuple:
+    """First and second derivative of a fitted edge piece at one end of its traversal along the
+    chain, with respect to a parameter `scale` times faster than the piece's own."""
+    u = 0.0 if rev == at_chain_end else 1.0
+    d1 = np.array(tuple(piece.getD1(u)[1])) * (-1.0 if rev else 1.0)
+    d2 = np.array(tuple(piece.getD2(u)[2]))
+    return d1 * scale, d2 * scale ** 2
+
+
+def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept: dict) -> dict:
+    """A network curve of which only some edges changed (a later stroke split or pulled them):
+    keep the fitted pieces of the unchanged edges (`kept`: edge id -> piece) and fit each run of
+    changed edges alone, joining its unchanged neighbours C2 (C0 at a kink), so that only the
+    faces along the changed edges need to be built again. Within tol_mm like a whole fit, but the
+    result depends on the order of the edits, not only on the network."""
+    out = {e.id: kept[e.id] for e, _ in chain if e.id in kept}
+    n, k = len(chain), 0
+    while k < n:
+        if chain[k][0].id in kept:
+            k += 1
+            continue
+        j = k
+        while j + 1 < n and chain[j + 1][0].id not in kept:
+            j += 1
+        run = chain[k:j + 1]
+        run_length = sum(_uv_length(e) for e, _ in run)
+        derivs = {}
+        if k > 0 and not _kink(*chain[k - 1], *chain[k]):
+            e, rev = chain[k - 1]
+            derivs[0.0] = _end_derivatives(kept[e.id], rev, True, run_length / _uv_length(e))
+        if j < n - 1 and not _kink(*chain[j], *chain[j + 1]):
+            e, rev = chain[j + 1]
+            derivs[1.0] = _end_derivatives(kept[e.id], rev, False, run_length / _uv_length(e))
+        out.update(_fit_curve(run, nodes, tol_mm, curve_id, derivs))
+        k = j + 1
     return out
 
 
@@ -175,12 +221,11 @@ def _digest(*arrays) -> bytes:
     return h.digest()
 
 
-def _curve_key(edges: list, nodes: dict, tol_mm: float) -> tuple:
-    """What a fitted network curve depends on: its edges (ids, ends, polylines, pre-image ends)
-    and the node points it must pass through, and the tolerance."""
-    return (tol_mm,) + tuple((e.id, e.node0, e.node1, _digest(e.polyline.points, e.polyline.params,
-                                                               e.uv0, e.uv1, nodes[e.node0], nodes[e.node1]))
-                             for e in sorted(edges, key=lambda x: x.id))
+def _edge_key(e, nodes: dict) -> tuple:
+    """What the fitted piece of one edge depends on: its id, ends, polyline, pre-image ends and
+    the node points it must pass through."""
+    return (e.id, e.node0, e.node1, _digest(e.polyline.points, e.polyline.params, e.uv0, e.uv1,
+                                            nodes[e.node0], nodes[e.node1]))
 
 
 def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None,
@@ -189,9 +234,10 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
     outer side or an accepted stroke) is fitted once through all its nodes, then cut at them; a curve
     whose edges do not form one chain is fitted edge by edge.
 
-    cache : {curve key: {edge_id: curve}} from an earlier build; a curve whose edges and nodes are
-            unchanged is taken from it instead of being fitted again.
-    stats : receives "curves": (reused, fitted).
+    cache : {("curve", curve id, tolerance): {edge key: piece}} from an earlier build: a curve whose
+            edges and nodes are all unchanged is taken from it; of a curve that a later stroke
+            split or pulled, only the changed edges are fitted again (_refit_changed).
+    stats : receives "curves": (reused, fitted or partly refitted).
     keep  : receives the entries of this build (reused and new), for the next one."""
     edges = network.edges()
     nodes = _node_points(edges)
@@ -204,21 +250,26 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
     curves = {}
     reused = fitted = 0
     for cid, group in by_curve.items():
-        key = ("curve", cid, _curve_key(group, nodes, tol_mm))
-        if key in cache:
-            curves.update(cache[key])
-            keep[key] = cache[key]
+        ckey = ("curve", cid, tol_mm)
+        keys = {e.id: _edge_key(e, nodes) for e in group}
+        before = cache.get(ckey, {})
+        kept = {eid: before[k] for eid, k in keys.items() if k in before}
+        if len(kept) == len(group):
+            piece = kept
             reused += 1
-            continue
-        chain = _curve_chain(group)
-        if chain is not None:
-            piece = _fit_curve(chain, nodes, tol_mm, cid)
         else:
-            piece = {e.id: fit_polyline(e.polyline, tol_mm, start=nodes[e.node0], end=nodes[e.node1],
-                                        name=f"edge {e.id} (curve {cid})") for e in group}
-        keep[key] = piece
+            chain = _curve_chain(group)
+            if chain is not None and kept:
+                piece = _refit_changed(chain, nodes, tol_mm, cid, kept)
+            elif chain is not None:
+                piece = _fit_curve(chain, nodes, tol_mm, cid)
+            else:
+                piece = {e.id: kept.get(e.id) or fit_polyline(e.polyline, tol_mm, start=nodes[e.node0],
+                                                               end=nodes[e.node1], name=f"edge {e.id} (curve {cid})")
+                         for e in group}
+            fitted += 1
+        keep[ckey] = {keys[eid]: c for eid, c in piece.items()}
         curves.update(piece)
-        fitted += 1
     if stats is not None:
         stats["curves"] = (reused, fitted)
     return curves
@@ -258,7 +309,7 @@ def _iso(surface, side: int, a: float, b: float):
     return curve.toShape()
 
 
-def make_face(surface, pieces: tuple):
+def make_face(surface, what: str = "face"):
     """The face of the whole surface, bounded by its four iso-curves (a degenerate side gives
     OCC's degenerated edge). Where a neighbour shares only part of a longer side, the sewing
     (`sew`) cuts that edge at the neighbour's vertex, so the faces still meet vertex to vertex.
@@ -267,6 +318,8 @@ def make_face(surface, pieces: tuple):
     face = surface.toShape()
     if not face.isValid():
         face.fix(1e-9, 1e-9, 1e-7)
+        if not face.isValid():
+            raise FitError(f"OCC made an invalid {what}; report this sketch")
     return face
 
 
@@ -303,9 +356,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
             bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
                                         for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
             surface = coons_surface(bottom, right, top, left)
-            face = make_face(surface, pieces)
-            if not face.isValid():
-                raise FitError(f"OCC made an invalid face for region {region.id}; report this sketch")
+            face = make_face(surface, f"face for region {region.id}")
             info = FaceInfo(region.id, surface, face, pieces, bool(region.triangle))
             built += 1
         else:
@@ -321,8 +372,11 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
         infos, sharp = _g1_faces(network, g0_faces, old, cache)
         timings["g1"] = time.perf_counter() - t2
     t3 = time.perf_counter()
-    shape = sew([i.face for i in infos])
+    faces = [i.face for i in infos]
+    shape, sewn = sew(faces, old.get(SEWN))
+    cache[SEWN] = sewn
     timings["sew"] = time.perf_counter() - t3
+    counts["sewn"] = (sum(1 for f in faces if id(f) in old.get(SEWN, {})), len(faces))
     return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts)
 
 
@@ -335,17 +389,47 @@ def _g1_faces(network, g0_infos: tuple, cache: dict, keep: dict) -> tuple[list, 
     smooth, sharp = smooth_faces(g0_infos, network, cache=cache, keep=keep)
     infos = []
     for info, g in zip(g0_infos, smooth):
-        face = make_face(g.surface, info.sides)
-        if not face.isValid():
-            raise FitError(f"OCC made an invalid G1 face for region {info.region_id}; use continuity G0")
-        infos.append(FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
+        key = ("g1face", id(g))          # the G1Face is kept in the entry, so its id stays its own
+        entry = cache.get(key)
+        if entry is None or entry[0] is not g:
+            face = make_face(g.surface, f"G1 face for region {info.region_id} (use continuity G0)")
+            entry = (g, FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
+        keep[key] = entry
+        infos.append(entry[1])
     return infos, sharp
 
 
-def sew(faces: list):
-    """Join faces whose edges coincide into one shell (BRepBuilderAPI_Sewing via Part, 1e-6 mm)."""
-    shell = Part.Shell(faces)
-    sewn = shell.copy()
+SEWN = ("sewn",)
+"""Cache key of {id(face given to sew): its face in the sewn shell}."""
+_PROBE = (0.4142135623730951, 0.7320508075688772)
+
+
+def _probe_key(point) -> tuple:
+    return tuple(round(float(x), 7) for x in point)
+
+
+def sew(faces: list, previous: dict | None = None) -> tuple:
+    """Join faces whose edges coincide into one shell (BRepBuilderAPI_Sewing, via Part).
+
+    previous : {id(face): its face in an earlier sewn shell} for faces that were sewn before: the
+               sewn face, whose edges are already shared with its old neighbours, is given to the
+               sewing instead, so only the edges around new faces are sewn again.
+    Returns (the sewn Part.Shell, or a Compound if OCC could not make one shell; {id(face): its
+    face in it} for the next call, empty if the faces could not be told apart)."""
+    previous = previous or {}
+    given = [previous.get(id(f), f) for f in faces]
+    sewn = Part.Compound(given)
     sewn.sewShape()
     shells = sewn.Shells
-    return shells[0] if len(shells) == 1 else sewn
+    shape = shells[0] if len(shells) == 1 else sewn
+    # the sewing keeps each face's surface: tell the sewn faces apart by a point of their surface
+    where = {}
+    for f in faces:
+        where.setdefault(_probe_key(f.valueAt(*_PROBE)), []).append(id(f))
+    out = {}
+    for f in shape.Faces:
+        ids = where.get(_probe_key(f.valueAt(*_PROBE)), [])
+        if len(ids) != 1:
+            return shape, {}
+        out[ids[0]] = f
+    return shape, out if len(out) == len(faces) else {}

@@ -10,23 +10,32 @@ DEGREE = 3
 
 
 def basis_matrix(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> FloatArray:
-    """B-spline basis N_j(t_i), (m, n_poles), for a clamped full knot vector on [0, 1] (Cox-de Boor)."""
+    """B-spline basis N_j(t_i), (m, n_poles), for a clamped full knot vector on [0, 1]: the degree+1
+    basis functions that are non-zero in each point's knot span (Piegl & Tiller A2.2, vectorised
+    over the points), scattered into a dense matrix."""
     knots = np.asarray(knots, dtype=float)
-    t = np.clip(np.asarray(t, dtype=float), knots[0], knots[-1])[:, None]
-    n = len(knots) - degree - 1
-    # degree 0: the half-open span containing t; the last point belongs to the last non-empty span
+    t = np.clip(np.ravel(np.asarray(t, dtype=float)), knots[0], knots[-1])
+    m, n = len(t), len(knots) - degree - 1
+    # the half-open span containing t; the last point belongs to the last non-empty span
     last = np.max(np.nonzero(knots[1:] > knots[:-1])[0])
-    span = np.minimum(np.searchsorted(knots, t[:, 0], side="right") - 1, last)
-    basis = np.zeros((len(t), len(knots) - 1))
-    basis[np.arange(len(t)), span] = 1.0
-    for p in range(1, degree + 1):
-        lo, hi = knots[: len(knots) - 1 - p], knots[p: len(knots) - 1]
-        lo1, hi1 = knots[1: len(knots) - p], knots[p + 1:]
-        d0, d1 = hi - lo, hi1 - lo1
-        a = np.divide(t - lo, d0, out=np.zeros((len(t), len(d0))), where=d0 > 0)
-        b = np.divide(hi1 - t, d1, out=np.zeros((len(t), len(d1))), where=d1 > 0)
-        basis = a * basis[:, :-1] + b * basis[:, 1:]
-    return basis[:, :n]
+    span = np.minimum(np.searchsorted(knots, t, side="right") - 1, last)
+    local = np.zeros((m, degree + 1))
+    local[:, 0] = 1.0
+    left = np.zeros((m, degree + 1))
+    right = np.zeros((m, degree + 1))
+    for j in range(1, degree + 1):
+        left[:, j] = t - knots[span + 1 - j]
+        right[:, j] = knots[span + j] - t
+        saved = np.zeros(m)
+        for r in range(j):
+            denom = right[:, r + 1] + left[:, j - r]
+            temp = np.divide(local[:, r], denom, out=np.zeros(m), where=denom > 0)
+            local[:, r] = saved + right[:, r + 1] * temp
+            saved = left[:, j - r] * temp
+        local[:, j] = saved
+    out = np.zeros((m, n))
+    out[np.arange(m)[:, None], span[:, None] - degree + np.arange(degree + 1)] = local
+    return out
 
 
 def uniform_knots(m: int, degree: int = DEGREE) -> FloatArray:

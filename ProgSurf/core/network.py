@@ -184,11 +184,19 @@ class PatchNetwork:
         """Record that nodes, edges or regions changed (edges() keeps its views until then)."""
         self.__dict__["_version"] = self.__dict__.get("_version", 0) + 1
 
+    _VIEW_CACHES = ("_views", "_polys", "_region_views", "_located", "_joined")
+    """Derived data kept between calls; every entry is checked against the records it was made
+    from (by identity) before use, so a clone may start from its original's."""
+
     def clone(self) -> "PatchNetwork":
-        """An independent copy that shares the immutable pieces."""
+        """An independent copy that shares the immutable pieces (and the derived views)."""
         other = object.__new__(PatchNetwork)
         other.mesh_density = self.mesh_density
         other.restore(self.snapshot())
+        for name in self._VIEW_CACHES:
+            value = self.__dict__.get(name)
+            if value is not None:
+                other.__dict__[name] = dict(value) if isinstance(value, dict) else value
         return other
 
     def new_curve_id(self, kind: str, stroke: int | None = None) -> int:
@@ -333,7 +341,25 @@ class PatchNetwork:
         return SideView(tuple(edges), _join_sides(chain))
 
     def region(self, rid: int) -> RegionView:
-        """The view of one region (see :class:`RegionView`)."""
+        """The view of one region (see :class:`RegionView`), kept while its record, the nodes
+        of its cycle and the edges along it are the same objects."""
+        reg = self._regions[rid]
+        cyc = reg.cycle
+        nodes = tuple(self._nodes[n] for n in cyc)
+        index = self._edge_index
+        edges = tuple(self._edges[index[(a, b)][0]] for a, b in zip(cyc, cyc[1:] + cyc[:1]))
+        views = self.__dict__.setdefault("_region_views", {})
+        if len(views) > 2 * len(self._regions) + 64:      # forget removed regions now and then
+            views = self.__dict__["_region_views"] = {k: views[k] for k in self._regions if k in views}
+        c = views.get(rid)
+        if (c is not None and c[0] is reg and len(c[1]) == len(nodes)
+                and all(x is y for x, y in zip(c[1], nodes)) and all(x is y for x, y in zip(c[2], edges))):
+            return c[3]
+        view = self._region_view(rid)
+        views[rid] = (reg, nodes, edges, view)
+        return view
+
+    def _region_view(self, rid: int) -> RegionView:
         (c0, c1, c2, c3), tri = self.region_corners(rid)
         sides = (self._side(rid, c0, c1), self._side(rid, c1, c2),
                  self._side(rid, c3, c2), self._side(rid, c0, c3))
@@ -435,23 +461,29 @@ class PatchNetwork:
     def locate(self, uv: FloatArray) -> int:
         """Id of the region whose polygon contains the pre-image point uv (2,) (the nearest one
         for a point just outside every polygon)."""
-        uv = np.clip(np.asarray(uv, dtype=float), 0.0, 1.0)
+        return int(self.locate_many(np.reshape(uv, (1, 2)))[0])
+
+    def locate_many(self, uv: FloatArray) -> np.ndarray:
+        """locate() for points uv (k, 2) at once: region ids (k,)."""
+        uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
         a, d, inv, owners, offsets = self._locator()
-        side = cross2(d, uv - a) * inv
-        depth = np.minimum.reduceat(side, offsets)
-        inside = np.flatnonzero(depth >= 0)
-        return int(owners[inside[0]] if len(inside) else owners[int(np.argmax(depth))])
+        side = cross2(d[None, :, :], uv[:, None, :] - a[None, :, :]) * inv[None, :]
+        depth = np.minimum.reduceat(side, offsets, axis=1)
+        inside = depth >= 0
+        pick = np.where(inside.any(axis=1), np.argmax(inside, axis=1), np.argmax(depth, axis=1))
+        return owners[pick]
 
     def evaluate_uv(self, uv: FloatArray) -> FloatArray:
         """3D points of the surface at pre-image points uv (k, 2) (or (2,)); (k, 3) or (3,)."""
         uv = np.asarray(uv, dtype=float)
         single = uv.ndim == 1
         uv2 = np.atleast_2d(uv)
+        rids = self.locate_many(uv2)
         out = np.empty((len(uv2), 3))
-        for k, p in enumerate(uv2):
-            rid = self.locate(p)
-            s, r = self.uv_to_local(rid, p)
-            out[k] = self.evaluate_region(rid, s[0], r[0])
+        for rid in np.unique(rids):
+            mask = rids == rid
+            s, r = self.uv_to_local(int(rid), uv2[mask])
+            out[mask] = self.evaluate_region(int(rid), s, r)
         return out[0] if single else out
 
     def region_grid(self, rid: int, n: int | None = None) -> tuple[FloatArray, FloatArray]:

@@ -93,3 +93,32 @@ def test_join_side_is_smooth_where_pieces_of_one_curve_meet():
     x = np.linspace(0, 1, 50)
     assert np.abs(curves.curve_points(side, x) - curves.curve_points(whole, x)).max() < 1e-9
     assert side.Continuity != "C0"
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_basis_matrix_evaluates_like_occ(seed):
+    """core.bspline.basis_matrix (the local Cox-de Boor basis) against OCC's own evaluation of the
+    same B-spline, with repeated knots, at the ends and at knots."""
+    rng = np.random.default_rng(seed)
+    inner = np.sort(rng.random(12))
+    inner = np.sort(np.concatenate([inner, inner[[3, 3, 7]]]))     # a C0 and a C1 knot
+    knots = np.concatenate([np.zeros(4), inner, np.ones(4)])
+    poles = rng.normal(size=(len(knots) - 4, 3))
+    occ = curves.bspline(knots, poles)
+    t = np.concatenate([[0.0, 1.0], inner, rng.random(50)])
+    assert np.abs(basis_matrix(knots, t) @ poles - curves.curve_points(occ, t)).max() <= 1e-12
+
+
+def test_fit_with_end_derivatives_meets_them_exactly():
+    """cad.fit.fit_cubic(derivs=): the first and second derivatives asked for at both ends (how a
+    refitted part of a network curve joins its kept neighbours C2), within tolerance in between."""
+    t = np.linspace(0.0, 1.0, 30)
+    pts = np.column_stack([40 * t, 10 * np.sin(3 * t), 5 * t ** 2])
+    want = {0.0: (np.array([40.0, 31.0, 1.0]), np.array([0.0, -20.0, 12.0])),
+            1.0: (np.array([38.0, -29.0, 11.0]), np.array([5.0, -90.0, 9.0]))}
+    knots, poles = fit_cubic(t, pts, np.array([0.0, 1.0]), pts[[0, -1]], 0.01, derivs=want)
+    c = curves.bspline(knots, poles)
+    for end, (d1, d2) in want.items():
+        assert np.allclose(tuple(c.getD1(end)[1]), d1, atol=1e-8)
+        assert np.allclose(tuple(c.getD2(end)[2]), d2, atol=1e-7)
+    assert np.abs(basis_matrix(knots, t) @ poles - pts).max() <= 0.01
