@@ -8,6 +8,8 @@ refining knots where the residual exceeds the tolerance. OCC then holds the resu
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..core.bspline import DEGREE, basis_matrix
@@ -43,13 +45,21 @@ def _end_poles(knots: FloatArray, end_points: tuple, derivs: dict | None) -> dic
     return out
 
 
+@lru_cache(maxsize=256)
+def _second_differences(n: int) -> FloatArray:
+    """(n - 2, n) second-difference operator on n poles (read-only, shared)."""
+    d = np.diff(np.eye(n), n=2, axis=0) if n >= 3 else np.zeros((0, n))
+    d.setflags(write=False)
+    return d
+
+
 def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     """Poles minimising |a P - pts|^2 + lam |second differences of P|^2 with c P = fixed_p exactly
     (KKT); a and c are basis matrices at the data and the fixed parameters; `end_poles`
     {index: pole} are given. exact False: a faster solve (LU, 5x), for the refinement rounds
     that only decide where knots go."""
     n = a.shape[1]
-    d = np.diff(np.eye(n), n=2, axis=0) if n >= 3 else np.zeros((0, n))
+    d = _second_differences(n)
     known = np.zeros((n, 3))
     free = np.ones(n, dtype=bool)
     for idx, pole in (end_poles or {}).items():
@@ -60,9 +70,11 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     a, c, d = a[:, free], c[:, free], d[:, free]
     rows = np.abs(c).sum(axis=1) > 1e-12          # a point constraint on given poles only is met
     c, fixed_p = c[rows], fixed_p[rows]
-    h = a.T @ a + lam * d.T @ d
-    k = c.shape[0]
-    kkt = np.block([[2.0 * h, c.T], [c, np.zeros((k, k))]])
+    m, k = a.shape[1], c.shape[0]
+    kkt = np.zeros((m + k, m + k))
+    kkt[:m, :m] = 2.0 * (a.T @ a + lam * d.T @ d)
+    kkt[:m, m:] = c.T
+    kkt[m:, :m] = c
     rhs = np.vstack([2.0 * (a.T @ pts + lam * d.T @ smooth), fixed_p])
     if exact:
         # minimum-norm least squares: with two nodes in one knot span the system is (nearly)

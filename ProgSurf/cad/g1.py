@@ -170,39 +170,64 @@ class _Seams:
         tangent = _derivs(fa.surface, *SIDE_PARAM[ka](w))[0 if ka in (0, 2) else 1]
         return na, nb, tangent
 
-    def normal(self, edge_id: int, t: float) -> FloatArray | None:
-        """Common normal of the seam at edge parameter t: the mean of the faces' normals, plus the
-        differences to the node normals at the seam's ends distributed linearly along it. (Evaluated
-        with the seam's ends, so that the blend moves the mean by its difference AT the ends; one
-        sample alone blended the normal at t itself towards the node normals.)"""
-        here = self._pair(edge_id, t)
-        if here is None:
-            return None
+    def normals(self, edge_id: int, ts: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Common normals of the seam at edge parameters ts (m,): (m, 3), and (m,) True where
+        defined. The mean of the faces' normals, plus the differences to the node normals at the
+        seam's ends distributed linearly along it (core.continuity.common_normals; the ends are
+        evaluated once per seam, and every sample is blended with the same ends)."""
         e = self.edges[edge_id]
         n0, n1 = (self._node_target(e.node0), self._node_target(e.node1))
-        ends = [self._pair(edge_id, x) if (n0 if x == 0.0 else n1) is not None else None for x in (0.0, 1.0)]
-        rows = [ends[0] or here, here, ends[1] or here]
+        pairs = [self._pair(edge_id, float(t)) for t in ts]
+        ok = np.array([p is not None for p in pairs], dtype=bool)
+        out = np.zeros((len(ts), 3))
+        if not ok.any():
+            return out, ok
+        here = [p for p in pairs if p is not None]
+        ends = self.__dict__.setdefault("_ends", {})
+        if edge_id not in ends:
+            ends[edge_id] = [self._pair(edge_id, x) if (n0 if x == 0.0 else n1) is not None else None
+                             for x in (0.0, 1.0)]
+        e0, e1 = ends[edge_id]
+        if (n0 is not None and e0 is None) or (n1 is not None and e1 is None):
+            # an end without normals (a degenerate corner) is blended from each sample's own row
+            for i, h in zip(np.flatnonzero(ok), here):
+                rows = [e0 or h, h, e1 or h]
+                na, nb, tan = (np.array([r[q] for r in rows]) for q in range(3))
+                out[i] = g1.common_normals(na, nb, tan, np.array([0.0, ts[i], 1.0]), n0, n1)[1]
+            return out, ok
+        rows = [e0 or here[0]] + here + [e1 or here[-1]]
+        t_rows = np.concatenate([[0.0], np.asarray(ts, dtype=float)[ok], [1.0]])
         na, nb, tan = (np.array([r[i] for r in rows]) for i in range(3))
-        return g1.common_normals(na, nb, tan, np.array([0.0, t, 1.0]), n0, n1)[1]
+        out[ok] = g1.common_normals(na, nb, tan, t_rows, n0, n1)[1:-1]
+        return out, ok
+
+    def normal(self, edge_id: int, t: float) -> FloatArray | None:
+        """The common normal at one edge parameter t (see :meth:`normals`), or None."""
+        n, ok = self.normals(edge_id, np.array([t]))
+        return n[0] if ok[0] else None
 
 
 def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:
     """Flux correction samples (m, 3) along side k of a face at side parameters w, and weights."""
     target = np.zeros((len(w), 3))
     weight = np.zeros(len(w))
-    for i, x in enumerate(w):
-        piece = next((p for p in info.sides[k] if p.a - 1e-12 <= x <= p.b + 1e-12), None)
-        if piece is None or piece.edge_id not in seams.seam:
+    owner = [next((j for j, p in enumerate(info.sides[k]) if p.a - 1e-12 <= x <= p.b + 1e-12), None) for x in w]
+    for j, piece in enumerate(info.sides[k]):
+        if piece.edge_id not in seams.seam:
             continue
-        t = (x - piece.a) / (piece.b - piece.a)
-        t = 1.0 - t if piece.reversed else t
-        n = seams.normal(piece.edge_id, float(np.clip(t, 0.0, 1.0)))
-        if n is None:
+        idx = np.array([i for i, o in enumerate(owner) if o == j], dtype=int)
+        if not len(idx):
             continue
-        ds, dr = _derivs(info.surface, *SIDE_PARAM[k](float(x)))
-        cross = dr if k in (0, 2) else ds
-        target[i] = g1.flux_correction(cross, n) * seams.taper(piece.edge_id, float(t))
-        weight[i] = 1.0
+        t = (w[idx] - piece.a) / (piece.b - piece.a)
+        t = np.clip(1.0 - t if piece.reversed else t, 0.0, 1.0)
+        normals, ok = seams.normals(piece.edge_id, t)
+        for i, x, tt, n, good in zip(idx, w[idx], t, normals, ok):
+            if not good:
+                continue
+            ds, dr = _derivs(info.surface, *SIDE_PARAM[k](float(x)))
+            cross = dr if k in (0, 2) else ds
+            target[i] = g1.flux_correction(cross, n) * seams.taper(piece.edge_id, float(tt))
+            weight[i] = 1.0
     return target, weight
 
 
