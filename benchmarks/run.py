@@ -107,8 +107,10 @@ def main(argv: list[str] | None = None) -> int:
         f"{growth['dropped']} dropped because the CAD adapter could not fit them.",
         report.latency_table(lat), report.target_lines(lat),
         "incremental = core + cad.build_shell(previous=shell of the network before the stroke): "
-        "unchanged curves and faces reused, the rest fitted and built, the whole shell re-sewn (what "
-        "the document object does on recompute). full shell = core + the shell built from nothing. "
+        "unchanged curves and faces reused; of a curve the stroke split or pulled only the changed "
+        "edges refitted (joined C2 to the kept pieces); the faces along changed edges built again "
+        "and sewn into the kept, already sewn faces (what the document object does on recompute). "
+        "full shell = core + the shell built from nothing. "
         "G1 incremental = the same from the network's G1 shell (G1 faces reused where their G0 face and "
         "neighbours are unchanged); "
         "the difference to the incremental column is the time G1 adds per stroke.",

@@ -108,11 +108,13 @@ def analyse(shape: Part.Shape, shell, result, n_strokes: int) -> Analysis:
 
 
 def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin: bool = False,
-                  continuity: str = "G0", previous=None, candidates=None) -> Outcome:
+                  continuity: str = "G0", previous=None, candidates=None, previous_result=None) -> Outcome:
     """Run the pipeline and the cad adapter on stroke point lists (each (n, 3)).
 
     previous: the `shell` of an earlier Outcome: curves and faces whose inputs are unchanged are
     reused (cad.build_shell), so a recompute after one stroke changed refits only what it touched.
+    previous_result: the `result` of an earlier Outcome: when the strokes only grew by interior
+    strokes, only the new ones are added to (a copy of) its network (pipeline.build).
 
     boundary: None (classify automatically), or the count of leading boundary strokes.
     candidates: with boundary None, the indices of the strokes the classification chooses from
@@ -122,7 +124,7 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
     if continuity not in cad_shell.CONTINUITIES:
         raise ProgSurfError(f"Continuity {continuity!r} is not one of {', '.join(cad_shell.CONTINUITIES)}")
     result = pipeline.build([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
-                            tol=tol, candidates=candidates)
+                            tol=tol, candidates=candidates, previous=previous_result)
     shell = cad_shell.build_shell(result.network, tol, continuity=continuity, previous=previous)
     shape = shell.shape
     if shape.isNull() or not shape.Faces:

@@ -117,7 +117,8 @@ class SurfaceProxy:
             outcome = build.build_surface(
                 [stroke_object.stroke_points(s) for s in strokes], boundary,
                 self.tolerances(obj), skin=obj.Skin, continuity=obj.Continuity,
-                previous=getattr(self, "shell", None), candidates=candidates)
+                previous=getattr(self, "shell", None), candidates=candidates,
+                previous_result=getattr(self, "result", None))
         except (ProgSurfError, Part.OCCError) as exc:
             message = f"{obj.Label}: {exc}; the previous shape is kept"
             FreeCAD.Console.PrintError(f"ProgSurf: {message}\n")

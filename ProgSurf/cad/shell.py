@@ -1,12 +1,18 @@
 """The watertight shell: shared B-spline edge curves, one exact Coons B-spline face per region.
 
 Qin & Wright section 3.3: the sub-patches of the pre-image network become B-spline faces fitted with
-OCC. Each network edge is fitted ONCE (curves.fit_polyline) with its end poles set to the shared node
-points; each region side is the join of its edge curves; each face is the exact Coons B-spline surface
-of its four sides (faces.coons_surface). Neighbouring faces therefore have the same boundary geometry
-(to ~1e-12 mm, round-off of the pole arithmetic). Each face is bounded by its surface's iso-curves split
-at the network's junction nodes, and the faces are joined into one shell by OCC sewing with a tolerance
-of 1e-6 mm, which only merges edges that already coincide; it cannot close a real gap.
+OCC. Each network curve is fitted ONCE through its nodes (cad.fit) and cut into its edges; each
+region side is the join of its edge curves; each face is the exact Coons B-spline surface of its four
+sides (faces.coons_surface). Neighbouring faces therefore have the same boundary geometry (to ~1e-12
+mm, round-off of the pole arithmetic). Each face is bounded by its surface's iso-curves, and the faces
+are joined into one shell by OCC sewing (1e-6 mm), which only merges edges that already coincide and
+cuts an edge at a neighbour's vertex; it cannot close a real gap.
+
+Incremental (build_shell(previous=)): after one more stroke, curves whose edges are unchanged are
+reused; of a curve the stroke split or pulled, only the changed edges are fitted again, joined C2
+to the kept pieces; faces whose sides are unchanged are reused; new faces are sewn into the kept,
+already sewn ones. The result meets the same tolerances as a build from nothing, but is not pole
+for pole the same: it depends on the order of the edits.
 """
 from __future__ import annotations
 

@@ -393,12 +393,13 @@ def make_boundary(
     chosen = _boundary_indices(boundary, len(arrays))
     threshold = auto_filter_threshold(arrays) if tol.filter_mm is None else float(tol.filter_mm)
     filtered = [filter_stroke(a, threshold) for a in arrays]
-    pool = list(range(len(arrays))) if candidates is None or chosen is not None else \
+    pool = list(chosen) if chosen is not None else list(range(len(arrays))) if candidates is None else \
         sorted({int(i) for i in candidates})
     if not pool or not all(0 <= i < len(arrays) for i in pool):
         raise InvalidOptionError(f"candidates={candidates!r}: give indices of strokes of this sketch "
                                  f"(0..{len(arrays) - 1})")
-    # the plane and size of the sketch come from the strokes that may bound it
+    # the plane and size of the sketch come from the strokes that may bound it (the named boundary
+    # strokes, when named: a later interior stroke does not move the boundary)
     allpts = np.concatenate([filtered[i] for i in pool])
     plane = best_fit_plane(allpts)
     diagonal = sketch_diagonal(allpts)

@@ -9,7 +9,7 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-from .boundary import BoundaryLoop, make_boundary
+from .boundary import BoundaryLoop, _boundary_indices, make_boundary
 from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
@@ -46,6 +46,8 @@ class BuildResult:
     boundary: BoundaryLoop
     tol: Tolerances
     strokes: list = field(default_factory=list)
+    interior: list = field(default_factory=list)
+    falloff: str = "linear"
 
     @property
     def accepted(self) -> list:
@@ -85,24 +87,46 @@ def _kept_points(raw: np.ndarray, parts: list) -> np.ndarray:
     return raw[keep] if keep.any() else raw
 
 
+def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop, interior: list,
+               tol: Tolerances, falloff: str) -> bool:
+    """True when `previous` was built from the first strokes of `arrays`, unchanged, with the same
+    tolerances, falloff and boundary loop, and every later stroke is interior: the surface is then
+    `previous`'s network with the later strokes added (the progressive method itself)."""
+    if previous is None or len(previous.strokes) > len(arrays) or previous.tol != tol or previous.falloff != falloff:
+        return False
+    n = len(previous.strokes)
+    if previous.interior != [i for i in interior if i < n] or any(i not in interior for i in range(n, len(arrays))):
+        return False
+    if not all(a.shape == b.shape and np.array_equal(a, b) for a, b in zip(previous.strokes, arrays)):
+        return False
+    old = previous.boundary
+    return old.source == loop.source and all(np.array_equal(a, b) for a, b in zip(old.sides, loop.sides))
+
+
 def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
           tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
-          falloff: str = "linear", candidates: Optional[Sequence[int]] = None) -> BuildResult:
+          falloff: str = "linear", candidates: Optional[Sequence[int]] = None,
+          previous: Optional[BuildResult] = None) -> BuildResult:
     """Build the progressive surface.
 
     strokes  : (n_i, 3) point arrays in mm, in drawing order
     boundary : None = classify by rays from the centroid; N = the first N strokes; list = indices
     candidates : with boundary None, the strokes the classification may choose from (the others are
                  interior strokes in any case); None = all
+    previous : the result of an earlier build. When the strokes only grew by interior strokes (the
+               earlier ones, the tolerances and the boundary unchanged), the new strokes are added to
+               a copy of its network instead of adding every stroke again: the same surface, in
+               the time of the new strokes (timings_s["reused strokes"] counts the others).
     Raises a ProgSurfError when no surface can be made (bad strokes, a boundary that cannot be
     closed); an interior stroke that cannot be added is recorded as rejected, never raised.
     """
     timings: dict = {}
     clock = time.perf_counter()
     arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
-    # automatic tolerances follow the size of the sketch, or of the boundary candidates when they
-    # are named (a stroke added far beside the surface must not change them)
-    sized = [arrays[i] for i in candidates if 0 <= i < len(arrays)] if candidates is not None else arrays
+    # automatic tolerances follow the size of the sketch, or of the boundary strokes (or boundary
+    # candidates) when they are named: an interior stroke added later must not change them
+    named = candidates if candidates is not None else _boundary_indices(boundary, len(arrays)) if arrays else None
+    sized = [arrays[i] for i in named if 0 <= i < len(arrays)] if named is not None else arrays
     tol = resolve_tolerances(sized or arrays, tol) if arrays else tol
     timings["validate"] = time.perf_counter() - clock
 
@@ -115,23 +139,30 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
 
     clock = time.perf_counter()
     sag = tol.fit_mm / 4.0
-    # The sides keep the paper's mapping of equalised points to the unit square (by index);
-    # interior strokes are faired below.
-    sides = list(loop.sides)
-    net = PatchNetwork(*sides)
+    records: dict[int, StrokeRecord] = {}
+    todo = list(interior)
+    if _continues(previous, arrays, loop, interior, tol, falloff):
+        net = previous.network.clone()
+        done = len(previous.strokes)
+        records.update({i: previous.records[i] for i in range(done)})
+        todo = [i for i in interior if i >= done]
+        timings["reused strokes"] = done
+    else:
+        # The sides keep the paper's mapping of equalised points to the unit square (by index);
+        # interior strokes are faired below.
+        net = PatchNetwork(*list(loop.sides))
     timings["base"] = time.perf_counter() - clock
     if progress:
         progress(2, total, "base surface")
 
-    records: dict[int, StrokeRecord] = {}
     used = {i for side in loop.source for i in side}
     for i in range(len(arrays)):
-        if i not in interior:
+        if i not in interior and i not in records:
             note = "boundary side" if i in used else "boundary stroke not used in the closed loop"
             records[i] = StrokeRecord(i, "boundary", "accepted" if i in used else "rejected", note,
                                       points=_kept_points(arrays[i], loop.used.get(i, [])))
     start_all = time.perf_counter()
-    for k, i in enumerate(interior):
+    for k, i in enumerate(todo, start=len(interior) - len(todo)):
         clock = time.perf_counter()
         # rounded to 1e-9 mm so that a save/reopen round trip (last-bit differences) fairs the same
         pts = np.round(filter_stroke(arrays[i], tol.filter_mm), 9)
@@ -144,4 +175,5 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
             r = records[i]
             progress(3 + k, total, f"stroke {i}: {r.status}" + ("" if r.status == "accepted" else f" ({r.reason})"))
     timings["interior"] = time.perf_counter() - start_all
-    return BuildResult(net, [records[i] for i in range(len(arrays))], timings, loop, tol, arrays)
+    return BuildResult(net, [records[i] for i in range(len(arrays))], timings, loop, tol, arrays,
+                       list(interior), falloff)

@@ -217,6 +217,25 @@ class TestFig11Surface(DocTestCase):
         self.assertLess(max_distance(surface.Shape, st2.Points), RAW_ON_SURFACE_MM)
         self.assertGreater(surface.Shape.BoundBox.ZMax, 55.0)
 
+    def test_adding_a_stroke_continues_the_surface_and_matches_a_fresh_one(self):
+        """A designer adds stroke 2 to a surface that has stroke 1: the recompute adds only the new
+        stroke to the previous network (here it crosses both patches, so every face is new; the
+        reuse of untouched faces is tests/app/test_cad_incremental.py's), and the shape is the one
+        a new surface of all the strokes gets."""
+        surface, _, strokes, st1, st2 = self.fig11(with_stroke2=False)
+        ps.add_interior(surface, [st2])
+        self.assertRecomputed(surface)
+        result = surface.Proxy.result
+        self.assertEqual(result.timings_s.get("reused strokes"), 5, "4 boundary strokes and stroke 1")
+        fresh = ps.make_surface(boundary=strokes, interior=[st1, st2], filter_mm=FILTER_MM, snap_mm=SNAP_MM)
+        self.assertRecomputed(fresh)
+        self.assertNotIn("reused strokes", fresh.Proxy.result.timings_s)
+        self.assertEqual(surface.PatchCount, fresh.PatchCount)
+        self.assertEqual(surface.StrokeStatus, fresh.StrokeStatus)
+        self.assertAlmostEqual(surface.Shape.Area, fresh.Shape.Area, delta=1e-4 * fresh.Shape.Area)
+        self.assertTrue(surface.Shape.isValid())
+        self.assertEqual(surface.Shape.ShapeType, "Shell")
+
     def test_moving_a_sketch_moves_the_surface(self):
         surface, (_, _, s2), _, _, st2 = self.fig11()
         old_shape = surface.Shape.copy()
