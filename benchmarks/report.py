@@ -91,6 +91,14 @@ def scale_table(s: dict) -> str:
                    f" | {b['reimport_faces']} | {_f(total, 2)} |")
     if "fit_checked" in s:
         out.append(f"\nfit_checked dropped {s['fit_checked']['dropped_unfittable']} stroke(s) the adapter could not fit.")
+    a = s.get("add_last")
+    if a and a.get("ok"):
+        out.append(f"\nThe last stroke added as the document adds it (the earlier {a['reused_strokes']} strokes' "
+                   f"network continued, the earlier shell reused): core {_f(a['core_s'] * 1e3, 0)} ms, shell "
+                   f"{_f(a['shell_s'] * 1e3, 0)} ms ({a['curves_fitted']} curves fitted, {a['faces_built']} faces "
+                   f"built of {a['regions']}; stroke {a['status']}).")
+    elif a:
+        out.append(f"\nThe last stroke added as the document adds it: FAIL: {a.get('error', '')[:120]}")
     return "\n".join(out)
 
 

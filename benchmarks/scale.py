@@ -52,6 +52,29 @@ def _export(net, folder: str, name: str) -> dict:
     return out
 
 
+def _add_last(z, strokes: list) -> dict:
+    """The last stroke added the way the document adds it on recompute: pipeline.build with the
+    earlier result (only the new stroke is added to a copy of its network) and cad.build_shell
+    with the earlier shell. The earlier build is not timed."""
+    boundary = boundary_strokes(z)
+    before = build(boundary + strokes[:-1], boundary=4, tol=BENCH_TOL)
+    try:
+        before_shell = cad.build_shell(before.network, BENCH_TOL)
+    except ProgSurfError as err:
+        return {"ok": False, "error": " ".join(str(err).split())[:200]}
+    t0 = time.perf_counter()
+    after = build(boundary + strokes, boundary=4, tol=BENCH_TOL, previous=before)
+    t1 = time.perf_counter()
+    try:
+        shell = cad.build_shell(after.network, BENCH_TOL, previous=before_shell)
+    except ProgSurfError as err:
+        return {"ok": False, "error": " ".join(str(err).split())[:200]}
+    t2 = time.perf_counter()
+    return {"ok": True, "core_s": t1 - t0, "shell_s": t2 - t1, "regions": len(after.network),
+            "reused_strokes": after.timings_s.get("reused strokes", 0), "status": after.records[-1].status,
+            "faces_built": shell.reused["faces"][1], "curves_fitted": shell.reused["curves"][1]}
+
+
 def run_scale(n_strokes: int, folder: str, seed: int = 7, surface: str = "saddle",
               fit_checked: bool | None = None) -> dict:
     """Build, fit, export and re-import a sketch of n_strokes random interior strokes. The
@@ -69,6 +92,7 @@ def run_scale(n_strokes: int, folder: str, seed: int = 7, surface: str = "saddle
     pipe.update(_export(res.network, folder, "scale_pipeline"))
     pipe["total_s"] = core_s + pipe.get("shell_s", 0.0) + pipe.get("export_s", 0.0)
     result["pipeline"] = pipe
+    result["add_last"] = _add_last(z, strokes)
     if fit_checked is False or (fit_checked is None and pipe.get("ok")):
         result["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
         return result
