@@ -48,6 +48,7 @@ class BuildResult:
     strokes: list = field(default_factory=list)
     interior: list = field(default_factory=list)
     falloff: str = "linear"
+    pool: tuple = ()
 
     @property
     def accepted(self) -> list:
@@ -131,7 +132,17 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
     timings["validate"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    loop, interior = make_boundary(arrays, boundary, tol, candidates)
+    # the strokes the boundary is made from, when named: ("named" or "candidates", indices)
+    pool = ("named" if candidates is None else "candidates", tuple(sorted(named))) if named is not None else ()
+    if (previous is not None and pool and previous.pool == pool and previous.tol == tol
+            and all(i < len(previous.strokes) and i < len(arrays) and np.array_equal(previous.strokes[i], arrays[i])
+                    for i in pool[1])):
+        # the same named strokes and tolerances make the same loop: keep it (fairing and closing
+        # the boundary is most of the work when one interior stroke is added)
+        chosen = set(range(len(previous.strokes))) - set(previous.interior)
+        loop, interior = previous.boundary, sorted(set(range(len(arrays))) - chosen)
+    else:
+        loop, interior = make_boundary(arrays, boundary, tol, candidates)
     timings["boundary"] = time.perf_counter() - clock
     total = len(interior) + 2
     if progress:
@@ -176,4 +187,4 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
             progress(3 + k, total, f"stroke {i}: {r.status}" + ("" if r.status == "accepted" else f" ({r.reason})"))
     timings["interior"] = time.perf_counter() - start_all
     return BuildResult(net, [records[i] for i in range(len(arrays))], timings, loop, tol, arrays,
-                       list(interior), falloff)
+                       list(interior), falloff, pool)

@@ -71,3 +71,14 @@ def test_other_tolerances_build_from_nothing(strokes):
     earlier = build(strokes[:-1], boundary=4)
     later = build(strokes, boundary=4, tol=replace(earlier.tol, fit_mm=earlier.tol.fit_mm * 2), previous=earlier)
     assert "reused strokes" not in later.timings_s
+
+
+def test_the_boundary_loop_is_kept_when_its_named_strokes_are_unchanged(strokes):
+    earlier = build(strokes[:-1], boundary=4)
+    later = build(strokes, boundary=4, previous=earlier)
+    assert later.boundary is earlier.boundary          # not closed and faired again
+    moved = [np.array(s, dtype=float) for s in strokes]
+    moved[0] = moved[0] + [0.0, 0.0, 0.5]               # a boundary stroke moved: closed again
+    again = build(moved, boundary=4, previous=earlier)
+    assert again.boundary is not earlier.boundary and "reused strokes" not in again.timings_s
+    _same_network(again.network, build(moved, boundary=4).network)
