@@ -105,12 +105,9 @@ def _closest_on_triangles(q: FloatArray, tri: FloatArray) -> tuple[FloatArray, F
     return best_w, best_d
 
 
-def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
-    """The footpoint of q (3,) on the facets (Eq. 2), as described in the module docstring.
-
-    slack : a real footpoint may lie this far (in mm) outside its facet, to absorb the
-            faceting of a curved surface near the outer boundary.
-    """
+def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint | None:
+    """The nearest real footpoint of q (3,) on the facets (Eq. 2): the one of smallest |d| among
+    facets whose projection of q falls inside them (within `slack` mm); None if there is none."""
     q = np.asarray(q, dtype=float)
     tri = facets.xyz
     inv, good, edge_len = facets.solver if facets.solver is not None else prepare(tri)
@@ -119,17 +116,30 @@ def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
     kr, ks, d = sol[:, 0], sol[:, 1], sol[:, 2]
     tol = np.where(edge_len > 0, slack / np.maximum(edge_len, 1e-300), 0.0) + 1e-9
     real = good & (kr >= -tol) & (ks >= -tol) & (kr + ks <= 1 + tol)
-    if np.any(real):
-        idx = np.flatnonzero(real)
-        k = idx[np.argmin(np.abs(d[idx]))]
-        w = np.clip(np.array([1 - kr[k] - ks[k], kr[k], ks[k]]), 0.0, None)
-        w /= w.sum()
-        foot = w @ tri[k]
-        # Within the slack the footpoint may fall just outside its facet: clamp it onto the
-        # surface and measure the distance to the clamped point, sign of d kept.
-        dist = float(np.copysign(np.linalg.norm(q - foot), d[k]))
-        return Footpoint(xyz=foot, uv=w @ facets.uv[k], distance=dist,
-                         region=int(facets.region[k]), inside=True)
+    if not np.any(real):
+        return None
+    idx = np.flatnonzero(real)
+    k = idx[np.argmin(np.abs(d[idx]))]
+    w = np.clip(np.array([1 - kr[k] - ks[k], kr[k], ks[k]]), 0.0, None)
+    w /= w.sum()
+    foot = w @ tri[k]
+    # Within the slack the footpoint may fall just outside its facet: clamp it onto the
+    # surface and measure the distance to the clamped point, sign of d kept.
+    dist = float(np.copysign(np.linalg.norm(q - foot), d[k]))
+    return Footpoint(xyz=foot, uv=w @ facets.uv[k], distance=dist, region=int(facets.region[k]), inside=True)
+
+
+def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
+    """The footpoint of q (3,) on the facets (Eq. 2), as described in the module docstring.
+
+    slack : a real footpoint may lie this far (in mm) outside its facet, to absorb the
+            faceting of a curved surface near the outer boundary.
+    """
+    q = np.asarray(q, dtype=float)
+    found = real_footpoint(q, facets, slack)
+    if found is not None:
+        return found
+    tri = facets.xyz
     w, dist = _closest_on_triangles(q, tri)
     k = int(np.argmin(dist))
     wk = w[k]

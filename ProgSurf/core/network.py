@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .coons import CoonsPatch
-from .footpoint import Facets, Footpoint, footpoint, prepare
+from .footpoint import Facets, Footpoint, footpoint, prepare, real_footpoint
 from .preimage import bilinear, cross2, inverse_bilinear, polygon_area, turning_corners
 from .types import FloatArray, Polyline
 
@@ -128,6 +128,17 @@ def _join_sides(chain: list[tuple[Polyline, float, float]]) -> Polyline:
     return Polyline(points, np.maximum.accumulate(params))
 
 
+NEAR_REGIONS = 4
+"""Footpoints are first searched in this many regions nearest (by bounding box) to the point."""
+
+
+def _join_parts(parts: list) -> Facets:
+    """Facets of per-region pieces (network._facet_parts), joined in the given order."""
+    return Facets(np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
+                  np.concatenate([p[3] for p in parts]),
+                  tuple(np.concatenate([p[2][k] for p in parts]) for k in range(3)))
+
+
 class PatchNetwork:
     """The progressive patch network of Qin & Wright section 3: the pre-image plane (the unit
     square) divided into convex 3/4-sided regions, each carrying a bicubically blended Coons
@@ -184,7 +195,7 @@ class PatchNetwork:
         """Record that nodes, edges or regions changed (edges() keeps its views until then)."""
         self.__dict__["_version"] = self.__dict__.get("_version", 0) + 1
 
-    _VIEW_CACHES = ("_views", "_polys", "_region_views", "_located", "_joined")
+    _VIEW_CACHES = ("_views", "_polys", "_region_views", "_located", "_joined", "_boxes_cache", "_segments")
     """Derived data kept between calls; every entry is checked against the records it was made
     from (by identity) before use, so a clone may start from its original's."""
 
@@ -260,6 +271,8 @@ class PatchNetwork:
         out = []
         for rid, reg in self._regions.items():
             cyc = reg.cycle
+            if a not in cyc or b not in cyc:
+                continue
             n = len(cyc)
             for k in range(n):
                 if {cyc[k], cyc[(k + 1) % n]} == {a, b}:
@@ -502,42 +515,65 @@ class PatchNetwork:
         return (merged(view.sides[0].polyline, view.sides[2].polyline),
                 merged(view.sides[1].polyline, view.sides[3].polyline))
 
-    def facets(self) -> Facets:
-        """The triangulated surface used for footpoints (Eq. 2); per-region pieces are cached
-        and rebuilt only for regions a stroke changed."""
-        n = self.mesh_density
-        g = np.linspace(0.0, 1.0, n + 1)
-        ss, rr = np.meshgrid(g, g, indexing="ij")
-        i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-        i, j = i.ravel(), j.ravel()
-        tris = (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
-        key = tuple(self._regions)
-        joined = self.__dict__.get("_joined")
-        if joined is not None and joined[0] == key and all(self._facets.get(r) is joined[1][k]
-                                                               for k, r in enumerate(key)):
-            return joined[2]
-        xyz, uv, region, parts, solver = [], [], [], [], []
-        for rid in self._regions:
-            if rid not in self._facets:
+    def _facet_parts(self) -> list:
+        """Per-region facet pieces in region order, (xyz, uv, solver, owner, bounding box); cached
+        per region and rebuilt only for regions a stroke changed."""
+        missing = [rid for rid in self._regions if rid not in self._facets]
+        if missing:
+            n = self.mesh_density
+            g = np.linspace(0.0, 1.0, n + 1)
+            ss, rr = np.meshgrid(g, g, indexing="ij")
+            i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+            i, j = i.ravel(), j.ravel()
+            tris = (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
+            for rid in missing:
                 p = self.evaluate_region(rid, ss, rr)
                 q = self.local_to_uv(rid, ss, rr)
                 fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
                 fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
-                self._facets[rid] = (fx, fu, prepare(fx), np.full(len(fx), rid))
-            parts.append(self._facets[rid])
-            fx, fu, pre, owner = self._facets[rid]
-            xyz.append(fx)
-            uv.append(fu)
-            region.append(owner)
-            solver.append(pre)
-        facets = Facets(np.concatenate(xyz), np.concatenate(uv), np.concatenate(region),
-                        tuple(np.concatenate([p[k] for p in solver]) for k in range(3)))
+                flat = fx.reshape(-1, 3)
+                self._facets[rid] = (fx, fu, prepare(fx), np.full(len(fx), rid),
+                                     np.stack([flat.min(axis=0), flat.max(axis=0)]))
+        return [self._facets[rid] for rid in self._regions]
+
+    def facets(self) -> Facets:
+        """The triangulated surface used for footpoints (Eq. 2): every region's piece, joined
+        (the join is kept until a region changes)."""
+        key = tuple(self._regions)
+        parts = self._facet_parts()
+        joined = self.__dict__.get("_joined")
+        if joined is not None and joined[0] == key and all(a is b for a, b in zip(parts, joined[1])):
+            return joined[2]
+        facets = _join_parts(parts)
         self.__dict__["_joined"] = (key, parts, facets)
         return facets
 
     def footpoint(self, q: FloatArray, slack: float = 0.0) -> Footpoint:
-        """Footpoint of q on the current surface (Eq. 2)."""
+        """Footpoint of q on the current surface (Eq. 2). The nearest real footpoint is searched
+        only among regions whose bounding box can hold one nearer than the best of the nearest
+        few regions (same result as searching every facet, in the same order); only when those
+        have none is every facet searched."""
+        q = np.asarray(q, dtype=float)
+        parts = self._facet_parts()
+        boxes = self._boxes(parts)
+        gap = np.linalg.norm(np.maximum(0.0, np.maximum(boxes[:, 0] - q, q - boxes[:, 1])), axis=1)
+        near = np.sort(np.argsort(gap, kind="stable")[:NEAR_REGIONS])
+        found = real_footpoint(q, _join_parts([parts[i] for i in near]), slack)
+        if found is not None:
+            reach = np.flatnonzero(gap <= abs(found.distance) + slack + 1e-9)
+            if not set(reach.tolist()) <= set(near.tolist()):
+                found = real_footpoint(q, _join_parts([parts[i] for i in reach]), slack)
+            return found
         return footpoint(q, self.facets(), slack)
+
+    def _boxes(self, parts: list) -> FloatArray:
+        """(R, 2, 3) bounding boxes (min, max) of the regions' facets, kept while the parts are."""
+        cached = self.__dict__.get("_boxes_cache")
+        if cached is not None and len(cached[0]) == len(parts) and all(a is b for a, b in zip(cached[0], parts)):
+            return cached[1]
+        boxes = np.stack([p[4] for p in parts])
+        self.__dict__["_boxes_cache"] = (parts, boxes)
+        return boxes
 
     # ---------------------------------------------------------------- invariants
     def check(self, tol: float = 1e-9) -> list[str]:

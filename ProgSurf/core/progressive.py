@@ -88,14 +88,23 @@ class _Work:
 
 
 def _edge_segments(net: PatchNetwork):
-    """All 3D segments of all edge polylines: A (S,3), B (S,3), edge id (S,), t0, t1 (S,)."""
-    a, b, eid, t0, t1 = [], [], [], [], []
-    for k, e in net.edges().items():
-        p, q = e.polyline.points, e.polyline.params
-        a.append(p[:-1]); b.append(p[1:])
-        eid.append(np.full(len(p) - 1, k)); t0.append(q[:-1]); t1.append(q[1:])
-    return (np.concatenate(a), np.concatenate(b), np.concatenate(eid),
-            np.concatenate(t0), np.concatenate(t1))
+    """All 3D segments of all edge polylines: A (S,3), B (S,3), edge id (S,), t0, t1 (S,), and
+    whether the edge is on the outer boundary (S,). Each edge's rows are kept on the network while
+    its view is the same object (a stroke changes a few edges; the rest are only joined)."""
+    cache = net.__dict__.setdefault("_segments", {})
+    parts = []
+    edges = net.edges()
+    for k, e in edges.items():
+        c = cache.get(k)
+        if c is None or c[0] is not e:
+            p, q = e.polyline.points, e.polyline.params
+            n = len(p) - 1
+            c = (e, p[:-1], p[1:], np.full(n, k), q[:-1], q[1:], np.full(n, e.curve_id in OUTER_CURVES))
+            cache[k] = c
+        parts.append(c)
+    if len(cache) > 2 * len(edges) + 64:          # forget removed edges now and then
+        net.__dict__["_segments"] = {k: cache[k] for k in edges}
+    return tuple(np.concatenate([c[i] for c in parts]) for i in range(1, 7))
 
 
 def _snap_end(net: PatchNetwork, pts: FloatArray, snap: float, segs) -> Optional[tuple]:
@@ -105,7 +114,7 @@ def _snap_end(net: PatchNetwork, pts: FloatArray, snap: float, segs) -> Optional
     (outer sides, earlier strokes). Over-sketch past an outer side may be any length; past an
     interior curve it may be at most max(2 snap, 15% of the stroke), so a stroke that truly
     crosses an earlier one is not cut there. Returns (j, edge id, t, point) or None."""
-    a, b, eid, t0, t1 = segs
+    a, b, eid, t0, t1, outer = segs
     h = max(1, len(pts) // 2)
     p = pts[:h]
     ab = b - a
@@ -114,8 +123,6 @@ def _snap_end(net: PatchNetwork, pts: FloatArray, snap: float, segs) -> Optional
     w = np.clip(w, 0.0, 1.0)
     close = a[None] + w[..., None] * ab[None]
     d = np.linalg.norm(p[:, None, :] - close, axis=2)
-    edges = net.edges()
-    outer = np.array([edges[k].curve_id in OUTER_CURVES for k in eid])
     run = cumulative_length(pts)
     limit = max(2.0 * snap, 0.15 * run[-1])
     allowed = outer[None, :] | (run[:h, None] <= limit)
