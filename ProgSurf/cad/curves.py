@@ -67,7 +67,7 @@ def bspline(knots: FloatArray, poles: FloatArray, degree: int = DEGREE):
 
 
 def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
-               name: str = "curve", breaks=(), derivs: dict | None = None):
+               name: str = "curve", breaks=(), derivs: dict | None = None, seed=()):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
     at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
     included), and with the end derivatives `derivs` if given (cad.fit.fit_cubic). Two points
@@ -84,7 +84,7 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
     fp = np.array([fixed[k] for k in ft], dtype=float)
     if np.ptp(np.vstack([pts, fp]), axis=0).max() <= 1e-12 or (len(pts) == 2 and len(ft) == 2 and not derivs):
         return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
-    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs)
+    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs, seed=seed)
     return bspline(knots, poles)
 
 

@@ -120,8 +120,8 @@ def chord_sag(pts: FloatArray) -> FloatArray:
 
 
 def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: FloatArray, tol: float,
-              name: str = "curve", max_rounds: int = 40, breaks=(), derivs: dict | None = None
-              ) -> tuple[FloatArray, FloatArray]:
+              name: str = "curve", max_rounds: int = 40, breaks=(), derivs: dict | None = None,
+              seed=()) -> tuple[FloatArray, FloatArray]:
     """Cubic B-spline C through fixed_p at fixed_t and within tol of the piecewise-linear polyline
     (t, pts) everywhere it is sampled (params in [0, 1]): the Coons sub-patch is built on that
     polyline, so the curve must follow it between the vertices too, within tol plus the chord's
@@ -131,6 +131,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     derivs : {0.0 and/or 1.0: (first derivative, second derivative or None)} the curve must have at
              that end (to join a neighbouring curve C1 or C2 when only a part of a curve is refitted).
 
+    seed   : interior knots to start from (e.g. those of an earlier fit of the same curve), so that
+             refinement starts near where it will end.
+
     Returns (full clamped knot vector, poles (n, 3)). Raises FitError if refinement does not reach tol.
     """
     t = np.asarray(t, dtype=float)
@@ -139,6 +142,11 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     # A kink of the polyline at a node (a curve pulled to a later stroke there) gets a C0 knot of
     # full multiplicity, instead of a crowd of knots that would chase the corner.
     interior = np.repeat(np.sort(np.asarray(breaks, dtype=float)), DEGREE)
+    seed = np.unique(np.asarray(seed, dtype=float))
+    seed = seed[(seed > 1e-9) & (seed < 1.0 - 1e-9)]
+    if len(seed) and len(interior):
+        seed = seed[np.min(np.abs(seed[:, None] - interior[None, :]), axis=1) > 1e-9]
+    interior = np.sort(np.concatenate([interior, seed]))
     sag = chord_sag(pts) if len(t) > 1 else np.zeros(1)
     for _ in range(max_rounds):
         knots = np.concatenate([np.zeros(DEGREE + 1), interior, np.ones(DEGREE + 1)])

@@ -151,11 +151,13 @@ def _uv_length(e) -> float:
     return max(float(np.linalg.norm(np.asarray(e.uv1) - np.asarray(e.uv0))), 1e-12)
 
 
-def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: dict | None = None) -> dict:
+def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: dict | None = None,
+               seed=()) -> dict:
     """Fit one network curve (a chain of edges) once, through all its nodes; cut it into the edges.
     The curve parameter is the cumulative pre-image (uv) length, which is how the network
     parametrises region sides, so the pieces re-join smoothly on a side.
-    derivs: end derivatives the fit must have (see cad.fit.fit_cubic), for a part of a curve."""
+    derivs: end derivatives the fit must have (see cad.fit.fit_cubic), for a part of a curve;
+    seed: interior knots (curve parameter) to start the refinement from."""
     lengths = np.array([_uv_length(e) for e, _ in chain])
     cum = np.concatenate([[0.0], np.cumsum(lengths)]) / lengths.sum()
     params, points, fixed = [], [], {}
@@ -169,7 +171,7 @@ def _fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: d
     fixed[0.0], fixed[1.0] = fixed.pop(float(cum[0])), fixed.pop(float(cum[-1]))
     breaks = [float(cum[k]) for k in range(1, len(chain)) if _kink(*chain[k - 1], *chain[k])]
     curve = fit_points(np.concatenate(params), np.vstack(points), tol_mm, fixed, name=f"curve {curve_id}",
-                       breaks=breaks, derivs=derivs)
+                       breaks=breaks, derivs=derivs, seed=seed)
     out = {}
     for k, (e, rev) in enumerate(chain):
         piece = unit_segment(curve, float(cum[k]), float(cum[k + 1]))
@@ -189,12 +191,24 @@ def _end_derivatives(piece, rev: bool, at_chain_end: bool, scale: float) -> tupl
     return d1 * scale, d2 * scale ** 2
 
 
-def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept: dict) -> dict:
+def _seed_knots(before: dict, start: int, end: int) -> list:
+    """Interior knots of the earlier fitted edge that ran from node `start` to node `end` (the
+    edge a stroke has split or pulled), in the direction start -> end; [] if there is none."""
+    for key, piece in before.items():
+        if {key[1], key[2]} == {start, end}:
+            knots = [float(k) for k in piece.getKnots()][1:-1]
+            return knots if key[1] == start else [1.0 - k for k in knots]
+    return []
+
+
+def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept: dict,
+                   before: dict | None = None) -> dict:
     """A network curve of which only some edges changed (a later stroke split or pulled them):
     keep the fitted pieces of the unchanged edges (`kept`: edge id -> piece) and fit each run of
     changed edges alone, joining its unchanged neighbours C2 (C0 at a kink), so that only the
     faces along the changed edges need to be built again. Within tol_mm like a whole fit, but the
-    result depends on the order of the edits, not only on the network."""
+    result depends on the order of the edits, not only on the network. before: the curve's earlier
+    {edge key: piece}; the knots of the edge a run replaced seed its fit."""
     out = {e.id: kept[e.id] for e, _ in chain if e.id in kept}
     n, k = len(chain), 0
     while k < n:
@@ -213,7 +227,9 @@ def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept:
         if j < n - 1 and not _kink(*chain[j], *chain[j + 1]):
             e, rev = chain[j + 1]
             derivs[1.0] = _end_derivatives(kept[e.id], rev, False, run_length / _uv_length(e))
-        out.update(_fit_curve(run, nodes, tol_mm, curve_id, derivs))
+        start = run[0][0].node1 if run[0][1] else run[0][0].node0
+        end = run[-1][0].node0 if run[-1][1] else run[-1][0].node1
+        out.update(_fit_curve(run, nodes, tol_mm, curve_id, derivs, _seed_knots(before or {}, start, end)))
         k = j + 1
     return out
 
@@ -227,11 +243,21 @@ def _digest(*arrays) -> bytes:
     return h.digest()
 
 
-def _edge_key(e, nodes: dict) -> tuple:
+def _edge_key(e, nodes: dict, digests: dict | None = None) -> tuple:
     """What the fitted piece of one edge depends on: its id, ends, polyline, pre-image ends and
-    the node points it must pass through."""
-    return (e.id, e.node0, e.node1, _digest(e.polyline.points, e.polyline.params, e.uv0, e.uv1,
-                                            nodes[e.node0], nodes[e.node1]))
+    the node points it must pass through. digests: {id(polyline): (polyline, digest)} kept between
+    builds, so that an unchanged (immutable, shared) polyline is not hashed again."""
+    poly = e.polyline
+    entry = digests.get(id(poly)) if digests is not None else None
+    if entry is None or entry[0] is not poly:
+        entry = (poly, _digest(poly.points, poly.params))
+        if digests is not None:
+            digests[id(poly)] = entry
+    return (e.id, e.node0, e.node1, entry[1], _digest(e.uv0, e.uv1, nodes[e.node0], nodes[e.node1]))
+
+
+DIGESTS = ("digests",)
+"""Cache key of {id(polyline): (polyline, content digest)} (see _edge_key)."""
 
 
 def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None,
@@ -255,9 +281,10 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
     keep = {} if keep is None else keep
     curves = {}
     reused = fitted = 0
+    digests = dict(cache.get(DIGESTS, {}))
     for cid, group in by_curve.items():
         ckey = ("curve", cid, tol_mm)
-        keys = {e.id: _edge_key(e, nodes) for e in group}
+        keys = {e.id: _edge_key(e, nodes, digests) for e in group}
         before = cache.get(ckey, {})
         kept = {eid: before[k] for eid, k in keys.items() if k in before}
         if len(kept) == len(group):
@@ -266,7 +293,7 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
         else:
             chain = _curve_chain(group)
             if chain is not None and kept:
-                piece = _refit_changed(chain, nodes, tol_mm, cid, kept)
+                piece = _refit_changed(chain, nodes, tol_mm, cid, kept, before)
             elif chain is not None:
                 piece = _fit_curve(chain, nodes, tol_mm, cid)
             else:
@@ -276,6 +303,8 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
             fitted += 1
         keep[ckey] = {keys[eid]: c for eid, c in piece.items()}
         curves.update(piece)
+    live = {id(e.polyline) for e in edges.values()}
+    keep[DIGESTS] = {k: v for k, v in digests.items() if k in live}
     if stats is not None:
         stats["curves"] = (reused, fitted)
     return curves
@@ -352,6 +381,18 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     infos = []
     reused = built = 0
     for region in network.regions():
+        used = tuple(curves[eid] for side in region.sides for eid, _ in side.edges)
+        # the same region view (the network keeps it while the region is unchanged) on the same
+        # curve objects makes the same face: no need to cut the sides again
+        fast = old.get(("region", region.id))
+        if (fast is not None and fast[0] is region and len(fast[1]) == len(used)
+                and all(a is b for a, b in zip(fast[1], used))):
+            info, key = fast[2], fast[3]
+            reused += 1
+            cache[key] = info
+            cache[("region", region.id)] = fast
+            infos.append(info)
+            continue
         pieces = tuple(_side_pieces(side, curves) for side in region.sides)
         corners = np.asarray(region.corners_xyz, dtype=float)
         # the face depends on its side pieces and on the very curve objects they cut
@@ -368,6 +409,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
         else:
             reused += 1
         cache[key] = info
+        cache[("region", region.id)] = (region, used, info, key)
         infos.append(info)
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": (reused, built)}
