@@ -18,6 +18,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 
 from ..core import continuity as g1
@@ -111,10 +113,17 @@ def _derivs(surface, s: float, r: float) -> tuple[FloatArray, FloatArray]:
 
 
 def _normal(surface, s: float, r: float) -> FloatArray | None:
-    du, dv = _derivs(surface, s, r)
-    n = np.cross(du, dv)
-    ln = float(np.linalg.norm(n))
-    return None if ln <= 1e-6 * max(float(np.linalg.norm(du) * np.linalg.norm(dv)), 1e-300) else n / ln
+    """Unit normal of the surface at (s, r), None where degenerate. Plain-float arithmetic (the
+    same operations as np.cross and np.linalg.norm, ~20x cheaper on single 3-vectors)."""
+    ax, ay, az = surface.getDN(s, r, 1, 0)
+    bx, by, bz = surface.getDN(s, r, 0, 1)
+    nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    la = math.sqrt(ax * ax + ay * ay + az * az)
+    lb = math.sqrt(bx * bx + by * by + bz * bz)
+    if ln <= 1e-6 * max(la * lb, 1e-300):
+        return None
+    return np.array([nx / ln, ny / ln, nz / ln])
 
 
 class _Seams:
@@ -221,13 +230,14 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
         t = (w[idx] - piece.a) / (piece.b - piece.a)
         t = np.clip(1.0 - t if piece.reversed else t, 0.0, 1.0)
         normals, ok = seams.normals(piece.edge_id, t)
-        for i, x, tt, n, good in zip(idx, w[idx], t, normals, ok):
-            if not good:
-                continue
-            ds, dr = _derivs(info.surface, *SIDE_PARAM[k](float(x)))
-            cross = dr if k in (0, 2) else ds
-            target[i] = g1.flux_correction(cross, n) * seams.taper(piece.edge_id, float(tt))
-            weight[i] = 1.0
+        if not ok.any():
+            continue
+        idx, x, t, normals = idx[ok], w[idx][ok], t[ok], normals[ok]
+        which = (0, 1) if k in (0, 2) else (1, 0)       # the derivative across side k
+        cross = np.array([tuple(info.surface.getDN(*SIDE_PARAM[k](float(v)), *which)) for v in x])
+        taper = np.array([seams.taper(piece.edge_id, float(tt)) for tt in t])
+        target[idx] = g1.flux_correction(cross, normals) * taper[:, None]
+        weight[idx] = 1.0
     return target, weight
 
 
