@@ -151,7 +151,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     for _ in range(max_rounds):
         knots = np.concatenate([np.zeros(DEGREE + 1), interior, np.ones(DEGREE + 1)])
         x = _samples(t, interior)
-        allow = tol + np.where(np.isin(x, t), 0.0, sag[np.clip(np.searchsorted(t, x) - 1, 0, len(sag) - 1)])
+        at = np.searchsorted(t, x)
+        vertex = t[np.minimum(at, len(t) - 1)] == x          # t is sorted: x is a vertex or lies after t[at-1]
+        allow = tol + np.where(vertex, 0.0, sag[np.clip(at - 1, 0, len(sag) - 1)])
         data = _polyline_at(t, pts, x)
         lam = 1e-8 * len(x)
         end_poles = _end_poles(knots, (fixed_p[0], fixed_p[-1]), derivs)
