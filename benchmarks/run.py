@@ -55,6 +55,27 @@ def _json_safe(x):
     return x
 
 
+def machine_reference_ms(repeats: int = 5) -> float:
+    """A fixed workload independent of ProgSurf (small least-squares solves and a Python loop, the
+    mix ProgSurf runs): the fastest of `repeats`, in ms. Printed at the start and the end of a run,
+    so that runs on a VM whose speed drifts (10-25% here) can be compared."""
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    a = rng.random((120, 40))
+    b = rng.random((120, 3))
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(100):
+            np.linalg.lstsq(a, b, rcond=None)
+        total = 0
+        for i in range(200_000):
+            total += i
+        best = min(best, time.perf_counter() - t0)
+    return best * 1e3
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="benchmarks/run.py", description=__doc__.splitlines()[0])
     p.add_argument("--out", default=str(ROOT / "out" / "bench"), help="output folder (default out/bench)")
@@ -75,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
 
     cfg = SMOKE if args.smoke else FULL
     t_start = time.perf_counter()
-    clock: dict = {}
+    clock: dict = {"reference_start_ms": machine_reference_ms()}
 
     t0 = time.perf_counter()
     sizes = sorted(set(cfg["sizes"]) | {cfg["profile_size"]})
@@ -94,6 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     scale = _scale_in_child(cfg["scale_strokes"], out, fit_checked=args.smoke)
     clock["scale_s"] = time.perf_counter() - t0
+    clock["reference_end_ms"] = machine_reference_ms()
     clock["total_s"] = time.perf_counter() - t_start
 
     report.plot(lat, peer_rows, str(out / "bench.png"))
@@ -101,7 +123,9 @@ def main(argv: list[str] | None = None) -> int:
         f"# ProgSurf benchmark{' (smoke)' if args.smoke else ''}",
         f"{platform.node()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
         f"wall time {clock['total_s']:.0f} s (latency {clock['latency_s']:.0f}, profile {clock['profile_s']:.0f}, "
-        f"peers {clock['peers_s']:.0f}, scale {clock['scale_s']:.0f}).",
+        f"peers {clock['peers_s']:.0f}, scale {clock['scale_s']:.0f}). Machine reference "
+        f"(benchmarks/run.py:machine_reference_ms, lower is faster): {clock['reference_start_ms']:.1f} ms at "
+        f"the start, {clock['reference_end_ms']:.1f} ms at the end.",
         "## 1. Interactive latency (saddle, random strokes)",
         f"Growth strokes: {growth['accepted']} kept, {growth['rejected']} rejected by the core, "
         f"{growth['dropped']} dropped because the CAD adapter could not fit them.",
