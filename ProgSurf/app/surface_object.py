@@ -144,6 +144,16 @@ class SurfaceProxy:
         obj.FitDeviation = outcome.analysis.fit_deviation_mm
         obj.LastError = ""
 
+    def memory(self) -> tuple:
+        """The last build kept in memory (result, analysis, shell): what the next recompute
+        continues from. The task panel takes it when it opens and gives it back on Cancel."""
+        return self.result, self.analysis, self.shell
+
+    def restore_memory(self, memory: tuple) -> None:
+        """Continue from an earlier build again (see memory): a recompute with that build's
+        inputs then reuses all of it, so its shape comes back exactly, not refitted."""
+        self.result, self.analysis, self.shell = memory
+
     def onDocumentRestored(self, obj) -> None:
         self.Object = obj
         self.result = None

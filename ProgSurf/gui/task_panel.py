@@ -69,6 +69,9 @@ class SurfacePanel:
     def __init__(self, surface, created: bool) -> None:
         self.surface, self.created = surface, created
         self.doc = surface.Document
+        # the build the surface continues from: Cancel gives it back, so that the old shape
+        # returns exactly (a refit after the preview's edits could differ within the fit tolerance)
+        self.memory = surface.Proxy.memory() if hasattr(surface.Proxy, "memory") else None
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("Progressive surface")
         self.form.setWindowIcon(QtGui.QIcon(icon("ProgSurf_CreateSurface")))
@@ -219,6 +222,8 @@ class SurfacePanel:
     def reject(self) -> bool:
         global CURRENT
         self.doc.abortTransaction()
+        if self.memory is not None:
+            self.surface.Proxy.restore_memory(self.memory)
         self.doc.recompute()
         self._close()
         CURRENT = None
