@@ -78,12 +78,14 @@ def nearest_on_faces(infos: Sequence, points: np.ndarray) -> tuple[np.ndarray, n
 
 
 def _region_of_faces(shape: Part.Shape, infos: Sequence) -> tuple:
-    """Match the (sewn) Shape's faces to the cad FaceInfos by their centres of mass."""
-    centres = np.array([tuple(i.face.CenterOfMass) for i in infos]).reshape(-1, 3)
+    """Match the (sewn) Shape's faces to the cad FaceInfos: sewing keeps each face's surface, so
+    a point of it tells them apart (the nearest, for a shape whose surfaces were rebuilt)."""
+    probe = cad_shell._PROBE
+    points = np.array([tuple(i.face.valueAt(*probe)) for i in infos]).reshape(-1, 3)
     out = []
     for face in shape.Faces:
-        c = np.array(tuple(face.CenterOfMass))
-        out.append(int(infos[int(np.argmin(np.linalg.norm(centres - c, axis=1)))].region_id))
+        p = np.array(tuple(face.valueAt(*probe)))
+        out.append(int(infos[int(np.argmin(np.linalg.norm(points - p, axis=1)))].region_id))
     return tuple(out)
 
 

@@ -9,10 +9,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 
 from ..core.types import FloatArray
 from ._occ import Part, Vector
+from .faces import unit_normal
 
 SIDE_UV = (lambda w: (w, 0.0), lambda w: (1.0, w), lambda w: (w, 1.0), lambda w: (0.0, w))
 """(s, r) of side parameter w on sides bottom, right, top, left of a face's parameter square."""
@@ -49,16 +52,6 @@ def _side_point(info, side: int, piece, t: float) -> tuple[float, float]:
     return SIDE_UV[side](w)
 
 
-def _unit_normal(surface, s: float, r: float) -> FloatArray | None:
-    """Unit normal S_s x S_r / |.|, None where degenerate (the apex of a 3-sided face)."""
-    du = np.array(tuple(surface.getDN(s, r, 1, 0)))
-    dv = np.array(tuple(surface.getDN(s, r, 0, 1)))
-    n = np.cross(du, dv)
-    length = float(np.linalg.norm(n))
-    scale = float(np.linalg.norm(du) * np.linalg.norm(dv))
-    return None if length <= 1e-6 * max(scale, 1e-300) else n / length
-
-
 def _seam_samples(a: tuple, b: tuple, t: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Gap (mm) and normal angle (deg; NaN where a face's normal is undefined) at the seam's edge
     parameters t, between the faces a and b, each given as (FaceInfo, side index, SidePiece)."""
@@ -70,7 +63,7 @@ def _seam_samples(a: tuple, b: tuple, t: FloatArray) -> tuple[FloatArray, FloatA
         qa = np.array(tuple(fa.surface.value(sa, ra)))
         qb = np.array(tuple(fb.surface.value(sb, rb)))
         gaps[i] = float(np.linalg.norm(qa - qb))
-        na, nb = _unit_normal(fa.surface, sa, ra), _unit_normal(fb.surface, sb, rb)
+        na, nb = unit_normal(fa.surface, sa, ra), unit_normal(fb.surface, sb, rb)
         if na is not None and nb is not None:
             angles[i] = float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0))))
     return gaps, angles
@@ -104,31 +97,52 @@ def fit_deviation(result, network, n: int = 21) -> dict:
     return out
 
 
+_GRIDS: dict = {}
+GRID_CACHE_FACES = 512
+"""Sample grids kept between calls, per surface object (a recompute after one stroke measures
+the strokes again on mostly the same faces): {id(surface): (surface, bounds, n, grid)}. An entry
+holds its surface, so the id stays its own while cached; the oldest go first beyond this size."""
+
+
 def _grid(surface, bounds, n: int) -> tuple[FloatArray, FloatArray]:
+    entry = _GRIDS.get(id(surface))
+    if entry is not None and entry[0] is surface and entry[1] == tuple(bounds) and entry[2] == n:
+        return entry[3]
     u0, u1, v0, v1 = bounds
     uu, vv = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
     uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
-    return uv, np.array([tuple(surface.value(float(u), float(v))) for u, v in uv])
+    grid = (uv, np.array([tuple(surface.value(float(u), float(v))) for u, v in uv]))
+    _GRIDS[id(surface)] = (surface, tuple(bounds), n, grid)
+    while len(_GRIDS) > GRID_CACHE_FACES:
+        del _GRIDS[next(iter(_GRIDS))]
+    return grid
 
 
 def _project(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 12) -> float:
-    """Distance from p to the surface patch over `bounds`: Gauss-Newton from uv, clamped to bounds."""
+    """Distance from p to the surface patch over `bounds`: Gauss-Newton from uv, clamped to bounds
+    (the 2x2 normal equations of the step, in plain floats)."""
     u0, u1, v0, v1 = bounds
+    px, py, pz = (float(x) for x in p)
     u, v = float(uv[0]), float(uv[1])
-    best = np.inf
+    best = math.inf
     for _ in range(iterations):
-        q = np.array(tuple(surface.value(u, v)))
-        r = p - q
-        best = min(best, float(np.linalg.norm(r)))
-        su = np.array(tuple(surface.getDN(u, v, 1, 0)))
-        sv = np.array(tuple(surface.getDN(u, v, 0, 1)))
-        jac = np.stack([su, sv], axis=1)
-        step = np.linalg.lstsq(jac, r, rcond=None)[0]
-        nu, nv = min(max(u + step[0], u0), u1), min(max(v + step[1], v0), v1)
+        qx, qy, qz = surface.value(u, v)
+        rx, ry, rz = px - qx, py - qy, pz - qz
+        best = min(best, math.sqrt(rx * rx + ry * ry + rz * rz))
+        ax, ay, az = surface.getDN(u, v, 1, 0)
+        bx, by, bz = surface.getDN(u, v, 0, 1)
+        aa, ab, bb = ax * ax + ay * ay + az * az, ax * bx + ay * by + az * bz, bx * bx + by * by + bz * bz
+        ar, br = ax * rx + ay * ry + az * rz, bx * rx + by * ry + bz * rz
+        det = aa * bb - ab * ab
+        if det <= 1e-300 * max(aa * bb, 1e-300):
+            break
+        du, dv = (bb * ar - ab * br) / det, (aa * br - ab * ar) / det
+        nu, nv = min(max(u + du, u0), u1), min(max(v + dv, v0), v1)
         if abs(nu - u) + abs(nv - v) < 1e-13:
             break
         u, v = nu, nv
-    return min(best, float(np.linalg.norm(p - np.array(tuple(surface.value(u, v))))))
+    qx, qy, qz = surface.value(u, v)
+    return min(best, math.sqrt((px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2))
 
 
 def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: int = 3) -> FloatArray:
@@ -137,13 +151,19 @@ def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: i
     `candidates` nearest patches (OCC's Extrema is ~50 ms a point on a heavy B-spline face)."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     grids = [_grid(surf, bounds, grid) for surf, bounds in patches]
+    if not grids:
+        return np.full(len(pts), np.inf)
+    sizes = [len(xyz) for _, xyz in grids]
+    starts = np.concatenate([[0], np.cumsum(sizes)])
+    allxyz = np.concatenate([xyz for _, xyz in grids])
     out = np.empty(len(pts))
     for i, p in enumerate(pts):
-        near = [(float(np.min(np.linalg.norm(xyz - p, axis=1))), k) for k, (_, xyz) in enumerate(grids)]
+        d = np.linalg.norm(allxyz - p, axis=1)
+        per_face = np.minimum.reduceat(d, starts[:-1])
         best = np.inf
-        for _, k in sorted(near)[:candidates]:
-            uv, xyz = grids[k]
-            j = int(np.argmin(np.linalg.norm(xyz - p, axis=1)))
+        for k in np.argsort(per_face, kind="stable")[:candidates]:
+            uv, _ = grids[k]
+            j = int(np.argmin(d[starts[k]:starts[k + 1]]))
             best = min(best, _project(patches[k][0], patches[k][1], p, uv[j]))
         out[i] = best
     return out
@@ -215,7 +235,7 @@ class G1SeamStat:
 
 def _corner_normal(surface, corner: int) -> FloatArray | None:
     s, r = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))[corner]
-    return _unit_normal(surface, s, r)
+    return unit_normal(surface, s, r)
 
 
 def node_spreads(result, network) -> dict:

@@ -14,6 +14,7 @@ poles of P follow by adding arrays: the surface IS the Coons patch, no sampling 
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,3 +84,17 @@ def coons_surface(bottom, right, top, left):
     surface.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), u.mults, v.mults,
                                      u.knots, v.knots, False, False, u.degree, v.degree)
     return surface
+
+
+def unit_normal(surface, s: float, r: float) -> FloatArray | None:
+    """Unit normal S_s x S_r / |.| of a surface at (s, r), None where degenerate (the apex of a
+    3-sided face). Plain-float arithmetic: the same operations as np.cross and np.linalg.norm,
+    ~20x cheaper on single 3-vectors (seam measurement and G1 sample thousands of them)."""
+    ax, ay, az = surface.getDN(s, r, 1, 0)
+    bx, by, bz = surface.getDN(s, r, 0, 1)
+    nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    scale = math.sqrt(ax * ax + ay * ay + az * az) * math.sqrt(bx * bx + by * by + bz * bz)
+    if ln <= 1e-6 * max(scale, 1e-300):
+        return None
+    return np.array([nx / ln, ny / ln, nz / ln])
