@@ -358,6 +358,29 @@ def make_face(surface, what: str = "face"):
     return face
 
 
+HISTORY = ("history",)
+"""Cache key of the build before the previous one (its cache, one generation deep): an undo, or
+any edit that returns to the strokes of two builds ago, finds its curves and faces there and gets
+the very same shell back, not a refit of it."""
+
+
+def _with_history(cache: dict) -> dict:
+    """One lookup dict of a cache and its HISTORY generation; where both hold a dict-valued entry
+    (curve pieces, sewn faces, digests) the two are merged, the newer winning."""
+    older = cache.get(HISTORY)
+    if not older:
+        return {k: v for k, v in cache.items() if k != HISTORY}
+    out = dict(older)
+    for k, v in cache.items():
+        if k == HISTORY:
+            continue
+        if isinstance(v, dict) and isinstance(out.get(k), dict):
+            out[k] = {**out[k], **v}
+        else:
+            out[k] = v
+    return out
+
+
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                 previous: "ShellResult | None" = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
@@ -373,8 +396,9 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
     t0 = time.perf_counter()
-    old = previous.cache if previous is not None else {}
-    cache: dict = {}
+    old = _with_history(previous.cache if previous is not None else {})
+    cache: dict = {HISTORY: {k: v for k, v in (previous.cache if previous is not None else {}).items()
+                             if k != HISTORY}}
     stats: dict = {}
     curves = fit_edges(network, tol, old, stats, keep=cache)
     t1 = time.perf_counter()

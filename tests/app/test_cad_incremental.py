@@ -171,3 +171,17 @@ def test_g1_faces_far_from_the_new_stroke_are_reused_and_the_same():
     kept = {id(f) for f in first.faces}
     assert sum(1 for f in incr.faces if id(f) in kept) == g1_reused   # reused G1 faces are the same faces
     _check_like_a_full_build(incr, full, after.network, after.tol)
+
+
+def test_going_back_to_the_strokes_before_gives_the_very_same_shell(steps):
+    """Undo: after a stroke was added (and its curves partly refitted), a build of the network
+    before it, from the newer shell, takes every curve and face from the generation kept in the
+    cache (cad.shell.HISTORY) instead of refitting them: the old shell, face for face."""
+    before, after = steps
+    first = cad.build_shell(before.network, before.tol)
+    second = cad.build_shell(after.network, after.tol, previous=first)
+    back = cad.build_shell(before.network, before.tol, previous=second)
+    assert back.reused["curves"][1] == 0 and back.reused["faces"][1] == 0
+    assert [id(f) for f in back.faces] == [id(f) for f in first.faces]
+    assert back.shape.Area == pytest.approx(first.shape.Area, rel=1e-12)
+    assert back.shape.isValid() and back.shape.ShapeType == "Shell"
