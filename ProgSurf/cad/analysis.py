@@ -7,9 +7,8 @@ network polylines) and how far each accepted stroke lies from the surface.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 

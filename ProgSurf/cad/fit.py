@@ -125,8 +125,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     """Cubic B-spline C through fixed_p at fixed_t and within tol of the piecewise-linear polyline
     (t, pts) everywhere it is sampled (params in [0, 1]): the Coons sub-patch is built on that
     polyline, so the curve must follow it between the vertices too, within tol plus the chord's
-    own sag (chord_sag): a smooth curve cannot, and need not, hug the corners of a coarse polyline. Knots are refined where the
-    residual exceeds tol; near a corner of the polyline they crowd until the smooth curve hugs it.
+    own sag (chord_sag): a smooth curve cannot, and need not, hug the corners of a coarse polyline.
+    Knots are refined where the residual exceeds that allowance; near a corner of the polyline they
+    crowd until the smooth curve hugs it.
 
     derivs : {0.0 and/or 1.0: (first derivative, second derivative or None)} the curve must have at
              that end (to join a neighbouring curve C1 or C2 when only a part of a curve is refitted).

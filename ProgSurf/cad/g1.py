@@ -130,6 +130,7 @@ class _Seams:
             for nid, (s, r) in zip(ids, ((0, 0), (1, 0), (1, 1), (0, 1))):
                 corner_normals.setdefault(nid, []).append(unit_normal(f.surface, float(s), float(r)))
         self.node = {nid: g1.node_normal(ns) for nid, ns in corner_normals.items()}
+        self._ends: dict = {}     # edge id -> the seam's (end 0, end 1) face pairs, see normals()
 
     def _node_target(self, nid: int) -> FloatArray | None:
         """The node normal the seam's normal is pulled to at that end; None at a sharp node (the
@@ -177,11 +178,10 @@ class _Seams:
         if not ok.any():
             return out, ok
         here = [p for p in pairs if p is not None]
-        ends = self.__dict__.setdefault("_ends", {})
-        if edge_id not in ends:
-            ends[edge_id] = [self._pair(edge_id, x) if (n0 if x == 0.0 else n1) is not None else None
-                             for x in (0.0, 1.0)]
-        e0, e1 = ends[edge_id]
+        if edge_id not in self._ends:
+            self._ends[edge_id] = [self._pair(edge_id, x) if (n0 if x == 0.0 else n1) is not None else None
+                                   for x in (0.0, 1.0)]
+        e0, e1 = self._ends[edge_id]
         if (n0 is not None and e0 is None) or (n1 is not None and e1 is None):
             # an end without normals (a degenerate corner) is blended from each sample's own row
             for i, h in zip(np.flatnonzero(ok), here):
@@ -194,11 +194,6 @@ class _Seams:
         na, nb, tan = (np.array([r[i] for r in rows]) for i in range(3))
         out[ok] = g1.common_normals(na, nb, tan, t_rows, n0, n1)[1:-1]
         return out, ok
-
-    def normal(self, edge_id: int, t: float) -> FloatArray | None:
-        """The common normal at one edge parameter t (see :meth:`normals`), or None."""
-        n, ok = self.normals(edge_id, np.array([t]))
-        return n[0] if ok[0] else None
 
 
 def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:

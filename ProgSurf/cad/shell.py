@@ -5,8 +5,8 @@ OCC. Each network curve is fitted ONCE through its nodes (cad.fit) and cut into 
 region side is the join of its edge curves; each face is the exact Coons B-spline surface of its four
 sides (faces.coons_surface). Neighbouring faces therefore have the same boundary geometry (to ~1e-12
 mm, round-off of the pole arithmetic). Each face is bounded by its surface's iso-curves, and the faces
-are joined into one shell by OCC sewing (1e-6 mm), which only merges edges that already coincide and
-cuts an edge at a neighbour's vertex; it cannot close a real gap.
+are joined into one shell by OCC sewing (at FreeCAD's fixed 1e-6 mm), which only merges edges that
+already coincide and cuts an edge at a neighbour's vertex; it cannot close a real gap.
 
 Incremental (build_shell(previous=)): after one more stroke, curves whose edges are unchanged are
 reused; of a curve the stroke split or pulled, only the changed edges are fitted again, joined C2
@@ -30,8 +30,6 @@ from .faces import coons_surface
 
 CONTINUITIES = ("G0", "G1")
 """G0: the paper's Coons sub-patches as they are; G1: tangent-continuous seams (issue 9, cad.g1)."""
-SEW_TOL_MM = 1e-6
-DEGENERATE_MM = 1e-9
 EDGE_FIT_FRACTION = 0.5
 """Edges are fitted within this fraction of tol.fit_mm (at polyline vertices and chord midpoints): a
 Coons face (Eq. 1, corners exact) moves by at most |dC| + |dD| <= twice its largest side deviation."""
@@ -334,16 +332,6 @@ def _side_curve(pieces: tuple, curves: dict, corner: FloatArray):
                      [pieces[0].a] + [p.b for p in pieces])
 
 
-def _iso(surface, side: int, a: float, b: float):
-    """Edge of the surface boundary `side` (0 bottom r=0, 1 right s=1, 2 top r=1, 3 left s=0)
-    restricted to side parameters [a, b]."""
-    curve = surface.vIso(0.0) if side == 0 else surface.uIso(1.0) if side == 1 else \
-        surface.vIso(1.0) if side == 2 else surface.uIso(0.0)
-    if a > 0.0 or b < 1.0:
-        curve.segment(a, b)   # the edge's own curve carries no C0 knot of its neighbours
-    return curve.toShape()
-
-
 def make_face(surface, what: str = "face"):
     """The face of the whole surface, bounded by its four iso-curves (a degenerate side gives
     OCC's degenerated edge). Where a neighbour shares only part of a longer side, the sewing
@@ -396,9 +384,9 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
     t0 = time.perf_counter()
-    old = _with_history(previous.cache if previous is not None else {})
-    cache: dict = {HISTORY: {k: v for k, v in (previous.cache if previous is not None else {}).items()
-                             if k != HISTORY}}
+    last = previous.cache if previous is not None else {}
+    old = _with_history(last)
+    cache: dict = {HISTORY: {k: v for k, v in last.items() if k != HISTORY}}
     stats: dict = {}
     curves = fit_edges(network, tol, old, stats, keep=cache)
     t1 = time.perf_counter()
@@ -476,8 +464,14 @@ SEWN = ("sewn",)
 _PROBE = (0.4142135623730951, 0.7320508075688772)
 
 
-def _probe_key(point) -> tuple:
-    return tuple(round(float(x), 7) for x in point)
+def probe_point(face) -> tuple:
+    """A point of the face's surface at fixed parameters: sewing keeps each face's surface, so it
+    tells the sewn faces apart and finds the face each one was sewn from."""
+    return tuple(face.valueAt(*_PROBE))
+
+
+def _probe_key(face) -> tuple:
+    return tuple(round(float(x), 7) for x in probe_point(face))
 
 
 def sew(faces: list, previous: dict | None = None) -> tuple:
@@ -497,10 +491,10 @@ def sew(faces: list, previous: dict | None = None) -> tuple:
     # the sewing keeps each face's surface: tell the sewn faces apart by a point of their surface
     where = {}
     for f in faces:
-        where.setdefault(_probe_key(f.valueAt(*_PROBE)), []).append(id(f))
+        where.setdefault(_probe_key(f), []).append(id(f))
     out = {}
     for f in shape.Faces:
-        ids = where.get(_probe_key(f.valueAt(*_PROBE)), [])
+        ids = where.get(_probe_key(f), [])
         if len(ids) != 1:
             return shape, {}
         out[ids[0]] = f

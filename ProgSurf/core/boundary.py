@@ -351,7 +351,9 @@ def equalise_uniform(a: npt.ArrayLike, b: npt.ArrayLike) -> tuple[FloatArray, Fl
 BoundarySpec = Union[None, int, Sequence[int]]
 
 
-def _boundary_indices(spec: BoundarySpec, n: int) -> Optional[list[int]]:
+def boundary_indices(spec: BoundarySpec, n: int) -> Optional[list[int]]:
+    """The stroke indices a boundary spec names (None: classify automatically); raises
+    InvalidOptionError for a spec that names no strokes of an n-stroke sketch."""
     if spec is None:
         return None
     if isinstance(spec, (bool, np.bool_)):
@@ -390,7 +392,7 @@ def make_boundary(
     arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
     if not arrays:
         raise InvalidOptionError("no strokes given; a boundary needs at least one stroke")
-    chosen = _boundary_indices(boundary, len(arrays))
+    chosen = boundary_indices(boundary, len(arrays))
     threshold = auto_filter_threshold(arrays) if tol.filter_mm is None else float(tol.filter_mm)
     filtered = [filter_stroke(a, threshold) for a in arrays]
     pool = list(chosen) if chosen is not None else list(range(len(arrays))) if candidates is None else \

@@ -199,6 +199,14 @@ class PatchNetwork:
     """Derived data kept between calls; every entry is checked against the records it was made
     from (by identity) before use, so a clone may start from its original's."""
 
+    def derived(self, name: str, live) -> dict:
+        """The derived-data dict `name` (one of _VIEW_CACHES, keyed by region or edge id). Once it
+        holds more than twice the live ids, the entries of removed ones are dropped."""
+        cache = self.__dict__.setdefault(name, {})
+        if len(cache) > 2 * len(live) + 64:
+            cache = self.__dict__[name] = {k: cache[k] for k in live if k in cache}
+        return cache
+
     def clone(self) -> "PatchNetwork":
         """An independent copy that shares the immutable pieces (and the derived views)."""
         other = object.__new__(PatchNetwork)
@@ -361,9 +369,7 @@ class PatchNetwork:
         nodes = tuple(self._nodes[n] for n in cyc)
         index = self._edge_index
         edges = tuple(self._edges[index[(a, b)][0]] for a, b in zip(cyc, cyc[1:] + cyc[:1]))
-        views = self.__dict__.setdefault("_region_views", {})
-        if len(views) > 2 * len(self._regions) + 64:      # forget removed regions now and then
-            views = self.__dict__["_region_views"] = {k: views[k] for k in self._regions if k in views}
+        views = self.derived("_region_views", self._regions)
         c = views.get(rid)
         if (c is not None and c[0] is reg and len(c[1]) == len(nodes)
                 and all(x is y for x, y in zip(c[1], nodes)) and all(x is y for x, y in zip(c[2], edges))):
@@ -390,7 +396,7 @@ class PatchNetwork:
         last = self.__dict__.get("_edges_view")
         if last is not None and last[0] == version:
             return dict(last[1])                  # a copy: callers may not change the cached one
-        views = self.__dict__.setdefault("_views", {})
+        views = self.derived("_views", self._edges)
         nodes = self._nodes
         out = {}
         for eid, e in self._edges.items():
@@ -400,8 +406,6 @@ class PatchNetwork:
                 c = (e, n0, n1, EdgeView(eid, e.curve_id, e.n0, e.n1, n0.uv, n1.uv, e.polyline))
                 views[eid] = c
             out[eid] = c[3]
-        if len(views) > 2 * len(out) + 64:        # forget removed edges now and then
-            self.__dict__["_views"] = {k: views[k] for k in out}
         self.__dict__["_edges_view"] = (version, out)
         return dict(out)
 
@@ -450,9 +454,7 @@ class PatchNetwork:
             return cached[1]
         starts, dirs, owners, offsets = [], [], [], []
         count = 0
-        polys = self.__dict__.setdefault("_polys", {})
-        if len(polys) > 2 * len(self._regions) + 64:      # forget removed regions now and then
-            polys = self.__dict__["_polys"] = {k: polys[k] for k in self._regions if k in polys}
+        polys = self.derived("_polys", self._regions)
         for rid, reg in self._regions.items():
             c = polys.get(rid)
             if c is None or c[0] is not reg:      # region records are replaced when they change

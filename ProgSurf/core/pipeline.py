@@ -9,7 +9,7 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-from .boundary import BoundaryLoop, _boundary_indices, make_boundary
+from .boundary import BoundaryLoop, boundary_indices, make_boundary
 from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
@@ -126,7 +126,7 @@ def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[
     arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
     # automatic tolerances follow the size of the sketch, or of the boundary strokes (or boundary
     # candidates) when they are named: an interior stroke added later must not change them
-    named = candidates if candidates is not None else _boundary_indices(boundary, len(arrays)) if arrays else None
+    named = candidates if candidates is not None else boundary_indices(boundary, len(arrays)) if arrays else None
     sized = [arrays[i] for i in named if 0 <= i < len(arrays)] if named is not None else arrays
     tol = resolve_tolerances(sized or arrays, tol) if arrays else tol
     timings["validate"] = time.perf_counter() - clock

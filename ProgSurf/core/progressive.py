@@ -91,9 +91,9 @@ def _edge_segments(net: PatchNetwork):
     """All 3D segments of all edge polylines: A (S,3), B (S,3), edge id (S,), t0, t1 (S,), and
     whether the edge is on the outer boundary (S,). Each edge's rows are kept on the network while
     its view is the same object (a stroke changes a few edges; the rest are only joined)."""
-    cache = net.__dict__.setdefault("_segments", {})
-    parts = []
     edges = net.edges()
+    cache = net.derived("_segments", edges)
+    parts = []
     for k, e in edges.items():
         c = cache.get(k)
         if c is None or c[0] is not e:
@@ -102,8 +102,6 @@ def _edge_segments(net: PatchNetwork):
             c = (e, p[:-1], p[1:], np.full(n, k), q[:-1], q[1:], np.full(n, e.curve_id in OUTER_CURVES))
             cache[k] = c
         parts.append(c)
-    if len(cache) > 2 * len(edges) + 64:          # forget removed edges now and then
-        net.__dict__["_segments"] = {k: cache[k] for k in edges}
     return tuple(np.concatenate([c[i] for c in parts]) for i in range(1, 7))
 
 
