@@ -3,7 +3,8 @@
 OCC's GeomAPI_PointsToBSpline approximates within a tolerance but cannot pass exactly through the
 network nodes inside a curve; neighbouring faces need exactly that (a node where a stroke ends on, or
 crosses, another curve is a corner of several Coons sub-patches). So each network curve is fitted once
-here: minimise sum |C(t_i) - p_i|^2 + lam |second differences of poles|^2 subject to C(t_k) = node_k,
+here: minimise sum w_i^2 |C(t_i) - p_i|^2 + lam |second differences of poles|^2 subject to C(t_k) = node_k
+(w_i = tol / the allowance of sample i),
 refining knots where the residual exceeds the tolerance. OCC then holds the result as a Part.BSplineCurve.
 """
 from __future__ import annotations
@@ -163,8 +164,11 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
             interior = np.sort(np.concatenate([interior, 0.5 * (bounds[1:] + bounds[:-1])]))
             continue
         a, c = basis_matrix(knots, x), basis_matrix(knots, fixed_t)
+        # each sample weighs by how closely it must be met: a chord point, allowed its sag, must
+        # not pull the curve off the vertices (equal weights crowded knots: 43 poles for 15 points)
+        w = tol / allow
         for exact in (False, True):   # the fast solve finds the knots, least squares the result
-            poles = _solve(a, c, data, fixed_p, lam, end_poles, exact)
+            poles = _solve(a * w[:, None], c, data * w[:, None], fixed_p, lam, end_poles, exact)
             res = np.linalg.norm(a @ poles - data, axis=1)
             fres = np.linalg.norm(c @ poles - fixed_p, axis=1)
             if not (np.all(res <= allow) and fres.max() <= 1e-9 * scale):
