@@ -78,7 +78,9 @@ class ShellResult:
     g0_faces    : in G1 mode, the G0 FaceInfos the G1 faces were made from (same order); else ()
     cache       : what a later build_shell(..., previous=this) may reuse: fitted curves and G0
                   faces keyed by the exact content (polylines, nodes, tolerance) they were made from
-    reused      : {"curves": (reused, fitted), "faces": (reused, built)} of this build
+    reused      : {"curves": (reused, fitted), "faces": (reused, built), "sewn": (faces given
+                  pre-sewn, faces), "local_sew": True if sewn into the previous shell locally
+                  (sew_into), False if the whole shell was sewn} of this build
     """
 
     shape: object
@@ -433,10 +435,18 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
         timings["g1"] = time.perf_counter() - t2
     t3 = time.perf_counter()
     faces = [i.face for i in infos]
-    shape, sewn = sew(faces, old.get(SEWN))
-    cache[SEWN] = sewn
+    local = sew_into(faces, last.get(SEWN_SHELL))
+    if local is not None:
+        shape, cache[SEWN_SHELL] = local
+        cache[SEWN] = local[1][1]
+    else:
+        shape, sewn = sew(faces, old.get(SEWN))
+        cache[SEWN] = sewn
+        if sewn and shape.ShapeType == "Shell":
+            cache[SEWN_SHELL] = (shape, sewn, {k: _vertex_keys(f) for k, f in sewn.items()})
     timings["sew"] = time.perf_counter() - t3
     counts["sewn"] = (sum(1 for f in faces if id(f) in old.get(SEWN, {})), len(faces))
+    counts["local_sew"] = local is not None
     return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts)
 
 
@@ -461,6 +471,9 @@ def _g1_faces(network, g0_infos: tuple, cache: dict, keep: dict) -> tuple[list, 
 
 SEWN = ("sewn",)
 """Cache key of {id(face given to sew): its face in the sewn shell}."""
+SEWN_SHELL = ("sewn shell",)
+"""Cache key of the last sewn shell: (shape, {id(face given): its sewn face}, {id(face given):
+the rounded points of its sewn face's vertices}), what a local sew (sew_into) edits."""
 _PROBE = (0.4142135623730951, 0.7320508075688772)
 
 
@@ -472,6 +485,25 @@ def probe_point(face) -> tuple:
 
 def _probe_key(face) -> tuple:
     return tuple(round(float(x), 7) for x in probe_point(face))
+
+
+def _vertex_keys(face) -> frozenset:
+    return frozenset(tuple(round(float(c), 6) for c in (v.X, v.Y, v.Z)) for v in face.Vertexes)
+
+
+def _match(given: list, shape) -> dict | None:
+    """{id(face given to the sewing): its face in the sewn shape}, or None if they cannot all be
+    told apart by a point of their surface."""
+    where: dict = {}
+    for f in given:
+        where.setdefault(_probe_key(f), []).append(id(f))
+    out = {}
+    for f in shape.Faces:
+        ids = where.get(_probe_key(f), [])
+        if len(ids) != 1:
+            return None
+        out[ids[0]] = f
+    return out if len(out) == len(given) else None
 
 
 def sew(faces: list, previous: dict | None = None) -> tuple:
@@ -489,13 +521,48 @@ def sew(faces: list, previous: dict | None = None) -> tuple:
     shells = sewn.Shells
     shape = shells[0] if len(shells) == 1 else sewn
     # the sewing keeps each face's surface: tell the sewn faces apart by a point of their surface
-    where = {}
-    for f in faces:
-        where.setdefault(_probe_key(f), []).append(id(f))
-    out = {}
-    for f in shape.Faces:
-        ids = where.get(_probe_key(f), [])
-        if len(ids) != 1:
-            return shape, {}
-        out[ids[0]] = f
-    return shape, out if len(out) == len(faces) else {}
+    out = _match(faces, shape)
+    return shape, out or {}
+
+
+def sew_into(faces: list, last: tuple | None) -> tuple | None:
+    """Sew new faces into the last sewn shell locally, so that the cost follows the faces a stroke
+    changed, not the size of the shell (issue 8).
+
+    last : the SEWN_SHELL entry of the previous build. The faces of the last shell that are gone
+    (replaced by new ones) are taken out; the new faces are sewn together with the kept faces that
+    touched the gone ones (their neighbours, sharing an edge or a vertex), and those neighbours are
+    replaced in the shell by their re-sewn selves. Every other face, and the edges and vertices it
+    shares, stays as it was. Returns (shell, SEWN_SHELL entry), or None where only a full sewing
+    will do (no last shell, nothing taken out, or the result is not one shell of all the faces)."""
+    if not last:
+        return None
+    shape, sewn_of, verts = last
+    ids = {id(f) for f in faces}
+    new = [f for f in faces if id(f) not in sewn_of]
+    gone = [k for k in sewn_of if k not in ids]
+    if not gone:
+        return (shape, last) if not new else None
+    if shape.ShapeType != "Shell":
+        return None
+    touched = frozenset().union(*(verts[k] for k in gone))
+    near = [f for f in faces if id(f) in sewn_of and not touched.isdisjoint(verts[id(f)])]
+    given = [sewn_of[id(f)] for f in near] + new
+    local = Part.Compound(given)
+    local.sewShape()
+    found = _match(given, local)
+    if found is None:
+        return None
+    pairs = [(sewn_of[id(f)], found[id(sewn_of[id(f)])]) for f in near]
+    pairs.append((sewn_of[gone[0]], Part.Compound([found[id(f)] for f in new])))
+    out = shape.replaceShape(pairs)
+    if len(gone) > 1:
+        out = out.removeShape([sewn_of[k] for k in gone[1:]])
+    if out.ShapeType != "Shell" or len(out.Faces) != len(faces):
+        return None
+    now = {id(f): sewn_of[id(f)] for f in faces if id(f) in sewn_of}
+    now.update({id(f): found[id(sewn_of[id(f)])] for f in near})
+    now.update({id(f): found[id(f)] for f in new})
+    nverts = {k: verts[k] for k in now if k in verts}
+    nverts.update({id(f): _vertex_keys(now[id(f)]) for f in near + new})
+    return out, (out, now, nverts)

@@ -53,6 +53,10 @@ def _check_like_a_full_build(incr, full, network, tol):
     assert shape.ShapeType == "Shell" and shape.isValid()
     assert len(shape.Faces) == len(full.shape.Faces) and len(shape.Edges) == len(full.shape.Edges)
     assert _free_edges(shape) == _free_edges(full.shape)          # only the outer boundary is free
+    # one orientation: the two faces on a shared edge run along it in opposite directions
+    for e in shape.Edges:
+        uses = [x.Orientation for f in shape.ancestorsOfType(e, Part.Face) for x in f.Edges if x.isSame(e)]
+        assert len(uses) == 1 or sorted(uses) == ["Forward", "Reversed"]
     assert cad.shell_seam_gaps(shape)["seam_gap_max_mm"] <= 1e-7
     assert shape.Area == pytest.approx(full.shape.Area, rel=1e-4)
 
@@ -87,7 +91,8 @@ def test_unchanged_curves_and_faces_are_reused_and_the_shell_is_like_a_full_buil
     before, after = steps
     first = cad.build_shell(before.network, before.tol)
     assert first.reused == {"curves": (0, len({e.curve_id for e in before.network.edges().values()})),
-                            "faces": (0, len(first.faces)), "sewn": (0, len(first.faces))}
+                            "faces": (0, len(first.faces)), "sewn": (0, len(first.faces)),
+                            "local_sew": False}
     full = cad.build_shell(after.network, after.tol)
     incr = cad.build_shell(after.network, after.tol, previous=first)
     reused_curves, fitted = incr.reused["curves"]
@@ -96,6 +101,7 @@ def test_unchanged_curves_and_faces_are_reused_and_the_shell_is_like_a_full_buil
     assert reused_faces > 0 and built > 0
     assert reused_faces + built == len(full.faces)
     assert incr.reused["sewn"] == (reused_faces, len(full.faces))   # kept faces come pre-sewn
+    assert incr.reused["local_sew"]          # and only the faces around the change are sewn again
     # a reused face is the very face of the first build
     kept = {id(f) for f in first.faces}
     assert sum(1 for f in incr.faces if id(f) in kept) == reused_faces
@@ -121,6 +127,7 @@ def test_a_partly_refitted_curve_joins_its_kept_pieces_c2():
         net = trial
         shell = cad.build_shell(net, tol, previous=shell)
         partial += shell.reused["curves"][1]
+        assert shell.reused["local_sew"]         # sewn into the last shell around the change only
     joins = _smooth_nodes(shell, net)
     full = cad.build_shell(net, tol)
     whole = _smooth_nodes(full, net)
@@ -185,3 +192,4 @@ def test_going_back_to_the_strokes_before_gives_the_very_same_shell(steps):
     assert [id(f) for f in back.faces] == [id(f) for f in first.faces]
     assert back.shape.Area == pytest.approx(first.shape.Area, rel=1e-12)
     assert back.shape.isValid() and back.shape.ShapeType == "Shell"
+    assert len(back.shape.Edges) == len(first.shape.Edges) and _free_edges(back.shape) == _free_edges(first.shape)
