@@ -201,6 +201,16 @@ def _seed_knots(before: dict, start: int, end: int) -> list:
     return []
 
 
+def _chain_seed(chain: list, before: dict) -> list:
+    """Seed knots for a whole refit of a curve that was fitted before as one edge between the
+    same end nodes (a curve a stroke split or pulled, with no edge left unchanged); [] otherwise."""
+    if not before:
+        return []
+    start = chain[0][0].node1 if chain[0][1] else chain[0][0].node0
+    end = chain[-1][0].node0 if chain[-1][1] else chain[-1][0].node1
+    return _seed_knots(before, start, end)
+
+
 def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept: dict,
                    before: dict | None = None) -> dict:
     """A network curve of which only some edges changed (a later stroke split or pulled them):
@@ -294,8 +304,8 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
             chain = _curve_chain(group)
             if chain is not None and kept:
                 piece = _refit_changed(chain, nodes, tol_mm, cid, kept, before)
-            elif chain is not None:
-                piece = _fit_curve(chain, nodes, tol_mm, cid)
+            elif chain is not None:      # a new curve, or one whose every edge changed
+                piece = _fit_curve(chain, nodes, tol_mm, cid, seed=_chain_seed(chain, before))
             else:
                 piece = {e.id: kept.get(e.id) or fit_polyline(e.polyline, tol_mm, start=nodes[e.node0],
                                                                end=nodes[e.node1], name=f"edge {e.id} (curve {cid})")
