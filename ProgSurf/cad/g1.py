@@ -24,7 +24,7 @@ from ..core import continuity as g1
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
-from .faces import unit_normal
+from .faces import SurfaceDerivatives, unit_normal
 from .fit import basis_matrix
 
 MIN_SPANS = 16
@@ -36,7 +36,6 @@ SMOOTHING = 1e-7
 H = 1e-4
 SHARP_TAPER = 0.1
 """Part of a seam (edge parameter) next to a sharp node over which the G1 correction fades in."""
-SIDE_PARAM = (lambda w: (w, 0.0), lambda w: (1.0, w), lambda w: (w, 1.0), lambda w: (0.0, w))
 
 
 @dataclass(frozen=True)
@@ -76,6 +75,21 @@ def _full_knots(surface, direction: str) -> FloatArray:
 
 def _cubic_coeffs(knots: FloatArray, fn) -> FloatArray:
     """Coefficients of a cubic polynomial fn(t) in the clamped cubic B-spline basis `knots` (exact)."""
+    key = (fn, tuple(np.asarray(knots, dtype=float).tolist()))
+    found = _COEFFS.get(key)
+    if found is None:
+        if len(_COEFFS) > 4096:
+            _COEFFS.clear()
+        found = _COEFFS[key] = _solve_coeffs(np.asarray(knots, dtype=float), fn)
+        found.setflags(write=False)
+    return found
+
+
+_COEFFS: dict = {}
+"""(function, knots) -> its coefficients: G1 faces share knot vectors (MIN_SPANS uniform knots)."""
+
+
+def _solve_coeffs(knots: FloatArray, fn) -> FloatArray:
     n = len(knots) - 4
     greville = np.array([knots[i + 1:i + 4].mean() for i in range(n)])
     c = np.linalg.solve(basis_matrix(knots, greville), fn(greville))
@@ -107,10 +121,6 @@ def _fit_flux(knots: FloatArray, w: FloatArray, target: FloatArray, weight: Floa
     return c
 
 
-def _derivs(surface, s: float, r: float) -> tuple[FloatArray, FloatArray]:
-    return (np.array(tuple(surface.getDN(s, r, 1, 0))), np.array(tuple(surface.getDN(s, r, 0, 1))))
-
-
 class _Seams:
     """Which face sides are G1 seams and the common normal along each."""
 
@@ -138,32 +148,36 @@ class _Seams:
         normal, spread = self.node.get(nid, (None, 0.0))
         return normal if spread <= g1.SHARP_NODE_DEG else None
 
-    def taper(self, edge_id: int, t: float) -> float:
-        """1, going smoothly to 0 within SHARP_TAPER of a sharp node: there the faces keep their G0
-        crease and the correction fades in (a jump would make the flux fit ring)."""
+    def taper(self, edge_id: int, t: FloatArray) -> FloatArray:
+        """(m,) at edge parameters t (m,): 1, going smoothly to 0 within SHARP_TAPER of a sharp
+        node: there the faces keep their G0 crease and the correction fades in (a jump would make
+        the flux fit ring)."""
         e = self.edges[edge_id]
-        out = 1.0
+        t = np.asarray(t, dtype=float)
+        out = np.ones(len(t))
         for nid, dist in ((e.node0, t), (e.node1, 1.0 - t)):
             if self.node.get(nid, (None, 0.0))[1] > g1.SHARP_NODE_DEG:
-                x = min(max(dist / SHARP_TAPER, 0.0), 1.0)
-                out *= x * x * (3.0 - 2.0 * x)
+                x = np.clip(dist / SHARP_TAPER, 0.0, 1.0)
+                out = out * (x * x * (3.0 - 2.0 * x))
         return out
 
-    def _pair(self, edge_id: int, t: float):
-        """The two G0 faces' unit normals and the seam tangent at edge parameter t (None if both
-        normals are undefined)."""
+    def _pairs(self, edge_id: int, ts: FloatArray):
+        """The two G0 faces' unit normals and the seam tangent at edge parameters ts (m,):
+        (na, nb, tangent), each (m, 3), and (m,) True where at least one normal is defined (where
+        only one is, it stands for both)."""
+        ts = np.asarray(ts, dtype=float)
         (fa, ka, pa), (fb, kb, pb) = self.uses[edge_id]
-        normals = []
+        found = []
         for f, k, p in ((fa, ka, pa), (fb, kb, pb)):
-            w = p.a + ((1.0 - t) if p.reversed else t) * (p.b - p.a)
-            normals.append(unit_normal(f.surface, *SIDE_PARAM[k](w)))
-        if normals[0] is None and normals[1] is None:
-            return None
-        na = normals[0] if normals[0] is not None else normals[1]
-        nb = normals[1] if normals[1] is not None else normals[0]
-        w = pa.a + ((1.0 - t) if pa.reversed else t) * (pa.b - pa.a)
-        tangent = _derivs(fa.surface, *SIDE_PARAM[ka](w))[0 if ka in (0, 2) else 1]
-        return na, nb, tangent
+            w = p.a + ((1.0 - ts) if p.reversed else ts) * (p.b - p.a)
+            found.append((derivatives_of(f.surface), *_side_points(k, w)))
+        (da, sa, ra), (db, sb, rb) = found
+        ds, dr = da.derivatives(sa, ra)
+        na, oka = _normals(ds, dr)
+        nb, okb = db.normals(sb, rb)
+        na = np.where(oka[:, None], na, nb)
+        nb = np.where(okb[:, None], nb, na)
+        return na, nb, ds if ka in (0, 2) else dr, oka | okb
 
     def normals(self, edge_id: int, ts: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Common normals of the seam at edge parameters ts (m,): (m, 3), and (m,) True where
@@ -172,39 +186,83 @@ class _Seams:
         evaluated once per seam, and every sample is blended with the same ends)."""
         e = self.edges[edge_id]
         n0, n1 = (self._node_target(e.node0), self._node_target(e.node1))
-        pairs = [self._pair(edge_id, float(t)) for t in ts]
-        ok = np.array([p is not None for p in pairs], dtype=bool)
+        ts = np.asarray(ts, dtype=float)
+        na, nb, tan, ok = self._pairs(edge_id, ts)
         out = np.zeros((len(ts), 3))
         if not ok.any():
             return out, ok
-        here = [p for p in pairs if p is not None]
         if edge_id not in self._ends:
-            self._ends[edge_id] = [self._pair(edge_id, x) if (n0 if x == 0.0 else n1) is not None else None
-                                   for x in (0.0, 1.0)]
+            ea, eb, et, eok = self._pairs(edge_id, np.array([0.0, 1.0]))
+            self._ends[edge_id] = [(ea[i], eb[i], et[i]) if eok[i] and node is not None else None
+                                   for i, node in enumerate((n0, n1))]
         e0, e1 = self._ends[edge_id]
+        na, nb, tan, t_ok = na[ok], nb[ok], tan[ok], ts[ok]
         if (n0 is not None and e0 is None) or (n1 is not None and e1 is None):
             # an end without normals (a degenerate corner) is blended from each sample's own row
-            for i, h in zip(np.flatnonzero(ok), here):
-                rows = [e0 or h, h, e1 or h]
-                na, nb, tan = (np.array([r[q] for r in rows]) for q in range(3))
-                out[i] = g1.common_normals(na, nb, tan, np.array([0.0, ts[i], 1.0]), n0, n1)[1]
+            rows = []
+            for i in range(len(t_ok)):
+                h = (na[i], nb[i], tan[i])
+                r3 = [e0 or h, h, e1 or h]
+                a3, b3, c3 = (np.array([r[q] for r in r3]) for q in range(3))
+                rows.append(g1.common_normals(a3, b3, c3, np.array([0.0, t_ok[i], 1.0]), n0, n1)[1])
+            out[ok] = np.array(rows)
             return out, ok
-        rows = [e0 or here[0]] + here + [e1 or here[-1]]
-        t_rows = np.concatenate([[0.0], np.asarray(ts, dtype=float)[ok], [1.0]])
-        na, nb, tan = (np.array([r[i] for r in rows]) for i in range(3))
-        out[ok] = g1.common_normals(na, nb, tan, t_rows, n0, n1)[1:-1]
+        first, last = (na[0], nb[0], tan[0]), (na[-1], nb[-1], tan[-1])
+        e0, e1 = e0 or first, e1 or last
+        t_rows = np.concatenate([[0.0], t_ok, [1.0]])
+        stack = [np.vstack([e0[q], (na, nb, tan)[q], e1[q]]) for q in range(3)]
+        out[ok] = g1.common_normals(*stack, t_rows, n0, n1)[1:-1]
         return out, ok
+
+
+def _side_points(k: int, w: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(s, r) arrays of side k of the unit square at side parameters w (SIDE_PARAM, vectorised)."""
+    w = np.asarray(w, dtype=float)
+    if k == 0:
+        return w, np.zeros_like(w)
+    if k == 1:
+        return np.ones_like(w), w
+    if k == 2:
+        return w, np.ones_like(w)
+    return np.zeros_like(w), w
+
+
+def _normals(ds: FloatArray, dr: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    n = np.cross(ds, dr)
+    ln = np.linalg.norm(n, axis=1)
+    ok = ln > 1e-6 * np.maximum(np.linalg.norm(ds, axis=1) * np.linalg.norm(dr, axis=1), 1e-300)
+    return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
+
+
+_DERIVATIVES: dict = {}
+
+
+def derivatives_of(surface) -> SurfaceDerivatives:
+    """The SurfaceDerivatives of a surface, kept while the surface object lives (G0 faces are
+    reused between builds)."""
+    entry = _DERIVATIVES.get(id(surface))
+    if entry is None or entry[0] is not surface:
+        if len(_DERIVATIVES) > 4096:
+            _DERIVATIVES.clear()
+        entry = _DERIVATIVES[id(surface)] = (surface, SurfaceDerivatives(surface))
+    return entry[1]
 
 
 def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:
     """Flux correction samples (m, 3) along side k of a face at side parameters w, and weights."""
     target = np.zeros((len(w), 3))
     weight = np.zeros(len(w))
-    owner = [next((j for j, p in enumerate(info.sides[k]) if p.a - 1e-12 <= x <= p.b + 1e-12), None) for x in w]
-    for j, piece in enumerate(info.sides[k]):
+    pieces = info.sides[k]
+    if not pieces:
+        return target, weight
+    # the first piece whose [a, b] holds each sample (-1: none)
+    inside = ((np.array([p.a for p in pieces])[None, :] - 1e-12 <= w[:, None])
+              & (w[:, None] <= np.array([p.b for p in pieces])[None, :] + 1e-12))
+    owner = np.where(inside.any(axis=1), np.argmax(inside, axis=1), -1)
+    for j, piece in enumerate(pieces):
         if piece.edge_id not in seams.seam:
             continue
-        idx = np.array([i for i, o in enumerate(owner) if o == j], dtype=int)
+        idx = np.flatnonzero(owner == j)
         if not len(idx):
             continue
         t = (w[idx] - piece.a) / (piece.b - piece.a)
@@ -213,9 +271,9 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
         if not ok.any():
             continue
         idx, x, t, normals = idx[ok], w[idx][ok], t[ok], normals[ok]
-        which = (0, 1) if k in (0, 2) else (1, 0)       # the derivative across side k
-        cross = np.array([tuple(info.surface.getDN(*SIDE_PARAM[k](float(v)), *which)) for v in x])
-        taper = np.array([seams.taper(piece.edge_id, float(tt)) for tt in t])
+        ds, dr = derivatives_of(info.surface).derivatives(*_side_points(k, x))
+        cross = dr if k in (0, 2) else ds                # the derivative across side k
+        taper = seams.taper(piece.edge_id, t)
         target[idx] = g1.flux_correction(cross, normals) * taper[:, None]
         weight[idx] = 1.0
     return target, weight

@@ -13,6 +13,13 @@ def basis_matrix(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> Floa
     """B-spline basis N_j(t_i), (m, n_poles), for a clamped full knot vector on [0, 1]: the degree+1
     basis functions that are non-zero in each point's knot span (Piegl & Tiller A2.2, vectorised
     over the points), scattered into a dense matrix."""
+    return basis_matrices(knots, t, degree)[0]
+
+
+def basis_matrices(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> tuple[FloatArray, FloatArray]:
+    """(basis_matrix(knots, t, degree), basis_matrix(knots[1:-1], t, degree - 1)) in one pass: the
+    lower-degree functions are the intermediate values of the same recursion. The second is the
+    basis of a derivative's poles (a first derivative has degree - 1 on knots[1:-1])."""
     knots = np.asarray(knots, dtype=float)
     t = np.clip(np.ravel(np.asarray(t, dtype=float)), knots[0], knots[-1])
     m, n = len(t), len(knots) - degree - 1
@@ -23,7 +30,12 @@ def basis_matrix(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> Floa
     local[:, 0] = 1.0
     left = np.zeros((m, degree + 1))
     right = np.zeros((m, degree + 1))
+    rows = np.arange(m)[:, None]
+    lower = np.zeros((m, max(n - 1, 0)))
     for j in range(1, degree + 1):
+        if j == degree and n > 1:
+            # degree - 1 functions N_{span-degree+1 .. span} on knots = indices - 1 on knots[1:-1]
+            lower[rows, span[:, None] - degree + np.arange(degree)] = local[:, :degree]
         left[:, j] = t - knots[span + 1 - j]
         right[:, j] = knots[span + j] - t
         saved = np.zeros(m)
@@ -34,8 +46,8 @@ def basis_matrix(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> Floa
             saved = left[:, j - r] * temp
         local[:, j] = saved
     out = np.zeros((m, n))
-    out[np.arange(m)[:, None], span[:, None] - degree + np.arange(degree + 1)] = local
-    return out
+    out[rows, span[:, None] - degree + np.arange(degree + 1)] = local
+    return out, lower
 
 
 def uniform_knots(m: int, degree: int = DEGREE) -> FloatArray:

@@ -139,13 +139,13 @@ def turning_angles(points: FloatArray, window: float = KINK_WINDOW) -> FloatArra
     if total <= 0.0 or len(pts) < 3:
         return out
     h = window * total
-    for i in range(1, len(pts) - 1):
-        lo = int(np.searchsorted(arc, arc[i] - h, side="right")) - 1
-        hi = int(np.searchsorted(arc, arc[i] + h, side="left"))
-        lo, hi = max(lo, 0), min(hi, len(pts) - 1)
-        a, b = pts[i] - pts[lo], pts[hi] - pts[i]
-        if np.linalg.norm(a) > 0 and np.linalg.norm(b) > 0:
-            out[i] = float(np.degrees(np.arccos(np.clip(unit(a) @ unit(b), -1.0, 1.0))))
+    i = np.arange(1, len(pts) - 1)
+    lo = np.maximum(np.searchsorted(arc, arc[i] - h, side="right") - 1, 0)
+    hi = np.minimum(np.searchsorted(arc, arc[i] + h, side="left"), len(pts) - 1)
+    a, b = pts[i] - pts[lo], pts[hi] - pts[i]
+    both = (np.linalg.norm(a, axis=1) > 0) & (np.linalg.norm(b, axis=1) > 0)
+    cos = np.clip(np.sum(unit(a) * unit(b), axis=1), -1.0, 1.0)
+    out[i] = np.where(both, np.degrees(np.arccos(cos)), 0.0)
     return out
 
 
@@ -169,9 +169,19 @@ def sharp_edges(network, angle_deg: float = KINK_ANGLE_DEG) -> frozenset:
         if cid in (0, 1, 2, 3):
             continue
         for e in group:
-            if is_kinked(e.polyline, angle_deg):
+            key = (id(e.polyline), angle_deg)
+            known = _KINKED.get(key)
+            if known is None or known[0] is not e.polyline:     # polylines are immutable
+                if len(_KINKED) > 8192:
+                    _KINKED.clear()
+                known = _KINKED[key] = (e.polyline, is_kinked(e.polyline, angle_deg))
+            if known[1]:
                 out.add(e.id)
     return frozenset(out)
+
+
+_KINKED: dict = {}
+"""(id(polyline), angle) -> (polyline, is_kinked): an unchanged edge is not tested again."""
 
 
 def node_normal(corner_normals: list) -> tuple[FloatArray | None, float]:
@@ -181,8 +191,8 @@ def node_normal(corner_normals: list) -> tuple[FloatArray | None, float]:
     if not ns:
         return None, 0.0
     ref = ns[0]
-    ns = [n if float(n @ ref) >= 0 else -n for n in ns]
-    spread = max(float(normal_angle_deg(a, b)) for a in ns for b in ns)
+    ns = np.array([n if float(n @ ref) >= 0 else -n for n in ns])
+    spread = float(normal_angle_deg(ns[:, None, :], ns[None, :, :]).max())
     return unit(np.sum(ns, axis=0)), spread
 
 
