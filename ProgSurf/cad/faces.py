@@ -107,16 +107,19 @@ class SurfaceDerivatives:
 
     def __init__(self, surface):
         from .curves import to_array
-        from ..core.bspline import basis_matrices
+        from ..core.bspline import SpanBasis
 
-        self._basis = basis_matrices
         poles = to_array(surface.getPoles())
         self.p, self.q = surface.UDegree, surface.VDegree
         self.ku = np.repeat(np.asarray(surface.getUKnots(), dtype=float), surface.getUMultiplicities())
         self.kv = np.repeat(np.asarray(surface.getVKnots(), dtype=float), surface.getVMultiplicities())
         self.poles = poles
+        self._span = {"u": SpanBasis(self.ku, self.p), "v": SpanBasis(self.kv, self.q)}
         self.du = self._diff(poles, self.ku, self.p, axis=0)
         self.dv = self._diff(poles, self.kv, self.q, axis=1)
+        # round-off of a derivative that is zero (along a collapsed side: the apex of a 3-sided
+        # face), below which it is set to the exact 0 that OCC gives there
+        self._tiny = tuple(1e-12 * max(float(np.abs(d).max()), 1e-300) for d in (self.du, self.dv))
 
     @staticmethod
     def _diff(poles, knots, degree, axis):
@@ -131,16 +134,25 @@ class SurfaceDerivatives:
     def derivatives(self, s, r) -> tuple[FloatArray, FloatArray]:
         """(S_s, S_r), each (m, 3), at parameters s, r (m,)."""
         s, r = np.atleast_1d(np.asarray(s, dtype=float)), np.atleast_1d(np.asarray(r, dtype=float))
-        bu, bu1 = self._at(self.ku, s, self.p)
-        bv, bv1 = self._at(self.kv, r, self.q)
-        return self._contract(bu1, self.du, bv), self._contract(bu, self.dv, bv1)
+        bu, bu1 = self._at("u", s)
+        bv, bv1 = self._at("v", r)
+        ds, dr = self._contract(bu1, self.du, bv), self._contract(bu, self.dv, bv1)
+        for d, tiny in ((ds, self._tiny[0]), (dr, self._tiny[1])):
+            d[np.abs(d).max(axis=1) <= tiny] = 0.0
+        return ds, dr
 
-    def _at(self, knots: FloatArray, t: FloatArray, degree: int) -> tuple[FloatArray, FloatArray]:
-        """Basis and derivative basis at t; computed once where t is constant (a side's r or s)."""
+    def _at(self, direction: str, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Basis and derivative basis at t; where t is constant (a side's r or s) computed once,
+        and at 0 or 1 (clamped ends: only the end functions are 1) not computed at all."""
+        basis = self._span[direction]
         if len(t) > 1 and np.all(t == t[0]):
-            b, b1 = self._basis(knots, t[:1], degree)
+            if t[0] in (0.0, 1.0):
+                b, b1 = np.zeros((1, basis.n)), np.zeros((1, basis.n - 1))
+                b[0, -1 if t[0] == 1.0 else 0] = b1[0, -1 if t[0] == 1.0 else 0] = 1.0
+            else:
+                b, b1 = basis(t[:1])
             return np.repeat(b, len(t), axis=0), np.repeat(b1, len(t), axis=0)
-        return self._basis(knots, t, degree)
+        return basis(t)
 
     @staticmethod
     def _contract(bu: FloatArray, poles: FloatArray, bv: FloatArray) -> FloatArray:

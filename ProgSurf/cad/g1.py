@@ -115,9 +115,14 @@ def _fit_flux(knots: FloatArray, w: FloatArray, target: FloatArray, weight: Floa
     lam = SMOOTHING * max(float(np.sum(weight)), 1.0)
     dfree = d[:, 2:n - 2]
     drhs = -d[:, [1, n - 2]] @ c[[1, n - 2]]
-    lhs = np.vstack([free, np.sqrt(lam) * dfree])
-    full = np.vstack([rhs, np.sqrt(lam) * drhs])
-    c[2:n - 2] = np.linalg.lstsq(lhs, full, rcond=None)[0]
+    # normal equations (positive definite: the smoothing term alone is, on the free poles)
+    lhs = free.T @ free + lam * dfree.T @ dfree
+    full = free.T @ rhs + lam * dfree.T @ drhs
+    try:
+        c[2:n - 2] = np.linalg.solve(lhs, full)
+    except np.linalg.LinAlgError:
+        c[2:n - 2] = np.linalg.lstsq(np.vstack([free, np.sqrt(lam) * dfree]),
+                                     np.vstack([rhs, np.sqrt(lam) * drhs]), rcond=None)[0]
     return c
 
 

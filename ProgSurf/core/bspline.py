@@ -53,3 +53,53 @@ def basis_matrices(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> tu
 def uniform_knots(m: int, degree: int = DEGREE) -> FloatArray:
     """The clamped uniform knot vector on [0, 1] of m control points."""
     return np.concatenate([np.zeros(degree), np.linspace(0.0, 1.0, m - degree + 1), np.ones(degree)])
+
+
+class SpanBasis:
+    """basis_matrices for one fixed knot vector, many times: each non-empty knot span's basis
+    functions (and those of the derivative basis) as polynomials in the span's local parameter,
+    found once by interpolating basis_matrices at four points of the span (exact for polynomials
+    of degree <= 3), then evaluated with one product per call."""
+
+    _U = np.array([0.0, 0.25, 0.5, 0.75])
+
+    def __init__(self, knots: FloatArray, degree: int = DEGREE):
+        if degree > 3:
+            raise ValueError("SpanBasis interpolates with cubics: degree <= 3")
+        knots = np.asarray(knots, dtype=float)
+        self.knots, self.degree = knots, degree
+        self.n = len(knots) - degree - 1
+        self.starts = np.flatnonzero(knots[1:] > knots[:-1])
+        self.last = int(self.starts.max())
+        self.pos = np.full(len(knots), -1)
+        self.pos[self.starts] = np.arange(len(self.starts))
+        a = knots[self.starts]
+        self.width = knots[self.starts + 1] - a
+        t = (a[:, None] + self.width[:, None] * self._U[None, :]).ravel()
+        full, lower = basis_matrices(knots, t, degree)
+        span = np.repeat(self.starts, 4)
+        rows = np.arange(len(t))[:, None]
+        local = full[rows, span[:, None] - degree + np.arange(degree + 1)].reshape(-1, 4, degree + 1)
+        inv = np.linalg.inv(np.vander(self._U, 4, increasing=True))
+        self.coef = np.einsum("kj,sjf->skf", inv, local)                # (spans, powers, functions)
+        if self.n > 1:
+            low = lower[rows, span[:, None] - degree + np.arange(degree)].reshape(-1, 4, degree)
+            self.coef_low = np.einsum("kj,sjf->skf", inv, low)
+        else:
+            self.coef_low = None
+
+    def __call__(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """(basis (m, n), derivative basis (m, n - 1)) at t, as basis_matrices(knots, t, degree)."""
+        k, p = self.knots, self.degree
+        t = np.clip(np.ravel(np.asarray(t, dtype=float)), k[0], k[-1])
+        span = np.minimum(np.searchsorted(k, t, side="right") - 1, self.last)
+        s = self.pos[span]
+        u = (t - k[span]) / self.width[s]
+        powers = u[:, None] ** np.arange(4)[None, :]
+        rows = np.arange(len(t))[:, None]
+        out = np.zeros((len(t), self.n))
+        out[rows, span[:, None] - p + np.arange(p + 1)] = np.einsum("mk,mkf->mf", powers, self.coef[s])
+        lower = np.zeros((len(t), max(self.n - 1, 0)))
+        if self.coef_low is not None:
+            lower[rows, span[:, None] - p + np.arange(p)] = np.einsum("mk,mkf->mf", powers, self.coef_low[s])
+        return out, lower

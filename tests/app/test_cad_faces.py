@@ -6,6 +6,7 @@ import pytest
 
 from ProgSurf.cad import curves, faces
 from ProgSurf.cad.fit import basis_matrix, chord_sag, fit_cubic
+from ProgSurf.core.bspline import SpanBasis, basis_matrices
 from ProgSurf.core.coons import coons_patch
 from ProgSurf.core.errors import FitError
 from ProgSurf.core.types import Polyline
@@ -110,6 +111,59 @@ def test_basis_matrix_evaluates_like_occ(seed):
     occ = curves.bspline(knots, poles)
     t = np.concatenate([[0.0, 1.0], inner, rng.random(50)])
     assert np.abs(basis_matrix(knots, t) @ poles - curves.curve_points(occ, t)).max() <= 1e-12
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_span_basis_and_derivative_basis_agree_with_cox_de_boor(seed):
+    """core.bspline.SpanBasis (per-span polynomials, found once per knot vector) gives the same
+    basis and derivative basis as the recursion, with repeated knots, at the ends and at knots."""
+    rng = np.random.default_rng(seed)
+    inner = np.sort(rng.random(15))
+    inner = np.sort(np.concatenate([inner, inner[[2, 2, 9]], [0.001, 0.0015]]))
+    knots = np.concatenate([np.zeros(4), inner, np.ones(4)])
+    t = np.concatenate([[0.0, 1.0], inner, rng.random(80)])
+    want, want_low = basis_matrices(knots, t)
+    got, got_low = SpanBasis(knots)(t)
+    assert np.abs(got - want).max() <= 1e-11 and np.abs(got_low - want_low).max() <= 1e-11
+    assert np.abs(want_low - basis_matrix(knots[1:-1], t, 2)).max() <= 1e-14
+
+
+def test_surface_derivatives_evaluate_like_occ():
+    """cad.faces.SurfaceDerivatives (all points at once, from the derivative poles) against OCC's
+    getDN on a Coons face with C0 junction knots, on its sides, corners and inside; normals undefined
+    at the apex of a 3-sided face, as unit_normal says."""
+    rng = np.random.default_rng(4)
+    sides = [curves.fit_points(np.linspace(0, 1, 12), np.column_stack([np.linspace(0, 30, 12), 3 * np.sin(np.linspace(0, 3, 12)) + k, np.full(12, 2.0 * k)]), 0.01) for k in range(2)]
+    left = curves.line_curve(np.array(tuple(sides[0].StartPoint)), np.array(tuple(sides[1].StartPoint)))
+    right = curves.join_side([curves.line_curve(np.array(tuple(sides[0].EndPoint)), np.array([31.0, 0.5, 1.5])),
+                              curves.line_curve(np.array([31.0, 0.5, 1.5]), np.array(tuple(sides[1].EndPoint)))],
+                             [False, False], [0.0, 0.4, 1.0])
+    for surface in (faces.coons_surface(sides[0], right, sides[1], left),
+                    faces.coons_surface(sides[0], right, curves.constant_curve(np.array(tuple(sides[1].StartPoint))), left)):
+        d = faces.SurfaceDerivatives(surface)
+        s = np.concatenate([[0.0, 1.0, 0.0, 1.0, 0.3], rng.random(60)])
+        r = np.concatenate([[0.0, 0.0, 1.0, 1.0, 0.4], rng.random(60)])
+        ds, dr = d.derivatives(s, r)
+        occ_s = np.array([tuple(surface.getDN(float(a), float(b), 1, 0)) for a, b in zip(s, r)])
+        occ_r = np.array([tuple(surface.getDN(float(a), float(b), 0, 1)) for a, b in zip(s, r)])
+        assert np.abs(ds - occ_s).max() <= 1e-9 * np.abs(occ_s).max()
+        assert np.abs(dr - occ_r).max() <= 1e-9 * np.abs(occ_r).max()
+        for side_r in (np.zeros(20), np.ones(20)):          # a side: constant parameter
+            a, b = d.derivatives(np.linspace(0, 1, 20), side_r)
+            oa = np.array([tuple(surface.getDN(float(x), float(y), 1, 0)) for x, y in zip(np.linspace(0, 1, 20), side_r)])
+            assert np.abs(a - oa).max() <= 1e-9 * max(np.abs(oa).max(), 1.0)
+        n, ok = d.normals(s, r)
+        for i in range(len(s)):
+            if min(np.abs(occ_s[i]).max(), np.abs(occ_r[i]).max()) <= 1e-12 * np.abs(occ_s).max():
+                # OCC's derivative along a collapsed side is round-off (2e-15), and unit_normal
+                # makes a direction of it; the numpy one is exactly 0 there: no normal
+                assert not ok[i]
+                continue
+            u = faces.unit_normal(surface, float(s[i]), float(r[i]))
+            assert (u is None) == (not ok[i])
+            if u is not None:
+                assert np.abs(u - n[i]).max() <= 1e-9
+    assert not ok[2] and not ok[3]      # the collapsed top of the 3-sided face
 
 
 def test_fit_with_end_derivatives_meets_them_exactly():
