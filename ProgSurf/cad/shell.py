@@ -102,11 +102,16 @@ def side_parameter(side_points: FloatArray, side_params: FloatArray, point: Floa
 
 def _node_points(edges: dict) -> dict:
     """node id -> one 3D point, the mean of the polyline ends meeting there."""
-    acc: dict = {}
-    for e in edges.values():
-        for node, p in ((e.node0, e.polyline.points[0]), (e.node1, e.polyline.points[-1])):
-            acc.setdefault(node, []).append(np.asarray(p, dtype=float))
-    return {k: np.mean(v, axis=0) for k, v in acc.items()}
+    if not edges:
+        return {}
+    ids = np.array([n for e in edges.values() for n in (e.node0, e.node1)])
+    pts = np.array([p for e in edges.values() for p in (e.polyline.points[0], e.polyline.points[-1])],
+                   dtype=float)
+    nodes, where = np.unique(ids, return_inverse=True)
+    sums = np.zeros((len(nodes), 3))
+    np.add.at(sums, where, pts)
+    means = sums / np.bincount(where)[:, None]
+    return dict(zip(nodes.tolist(), means))
 
 
 def _curve_chain(edges: list) -> list | None:
@@ -255,19 +260,25 @@ def _digest(*arrays) -> bytes:
 
 def _edge_key(e, nodes: dict, digests: dict | None = None) -> tuple:
     """What the fitted piece of one edge depends on: its id, ends, polyline, pre-image ends and
-    the node points it must pass through. digests: {id(polyline): (polyline, digest)} kept between
-    builds, so that an unchanged (immutable, shared) polyline is not hashed again."""
+    the node points it must pass through. digests: {id(polyline): (polyline, digest, last key)}
+    kept between builds, so that an unchanged (immutable, shared) polyline is not hashed again,
+    nor the key of an unchanged edge view between unchanged node points made again."""
     poly = e.polyline
     entry = digests.get(id(poly)) if digests is not None else None
+    ends = (tuple(nodes[e.node0].tolist()), tuple(nodes[e.node1].tolist()))
     if entry is None or entry[0] is not poly:
-        entry = (poly, _digest(poly.points, poly.params))
-        if digests is not None:
-            digests[id(poly)] = entry
-    return (e.id, e.node0, e.node1, entry[1], _digest(e.uv0, e.uv1, nodes[e.node0], nodes[e.node1]))
+        entry = (poly, _digest(poly.points, poly.params), None)
+    elif entry[2] is not None and entry[2][0] is e and entry[2][1] == ends:
+        return entry[2][2]          # the same (immutable) edge view between the same node points
+    key = (e.id, e.node0, e.node1, entry[1], _digest(e.uv0, e.uv1, nodes[e.node0], nodes[e.node1]))
+    if digests is not None:
+        digests[id(poly)] = (poly, entry[1], (e, ends, key))
+    return key
 
 
 DIGESTS = ("digests",)
-"""Cache key of {id(polyline): (polyline, content digest)} (see _edge_key)."""
+"""Cache key of {id(polyline): (polyline, content digest, (edge view, its node points, its edge
+key) or None)} (see _edge_key)."""
 
 
 def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None,
@@ -565,9 +576,8 @@ def sew_into(faces: list, last: tuple | None) -> tuple | None:
         return None
     pairs = [(sewn_of[id(f)], found[id(sewn_of[id(f)])]) for f in near]
     pairs.append((sewn_of[gone[0]], Part.Compound([found[id(f)] for f in new])))
+    pairs += [(sewn_of[k], Part.Compound([])) for k in gone[1:]]      # an empty compound removes
     out = shape.replaceShape(pairs)
-    if len(gone) > 1:
-        out = out.removeShape([sewn_of[k] for k in gone[1:]])
     if out.ShapeType != "Shell" or len(out.Faces) != len(faces):
         return None
     now = {id(f): sewn_of[id(f)] for f in faces if id(f) in sewn_of}
