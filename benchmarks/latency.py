@@ -100,13 +100,16 @@ def grow(sizes: list[int], surface: str = "saddle", seed: int = 1, tol: Toleranc
 
 
 def measure_latency(nets: dict, growth: dict, probes: int, shell_probes: dict, surface: str = "saddle",
-                    seed: int = 1, tol: Tolerances = BENCH_TOL) -> list[dict]:
+                    seed: int = 1, tol: Tolerances = BENCH_TOL, reference=None) -> list[dict]:
     """One row per network (target size -> network from :func:`grow`): regions, and median/p95 ms
     of the core, full-shell (at most shell_probes[target] probes) and incremental variants over
-    accepted probe strokes; rejected probes are counted, not timed."""
+    accepted probe strokes; rejected probes are counted, not timed.
+    reference: a function giving the machine reference in ms (run.machine_reference_ms), measured
+    before and after each row: this VM's speed drifts by up to 50% within a run."""
     z = SURFACES[surface]
     rows = []
     for target in sorted(nets):
+        ref_before = reference() if reference is not None else float("nan")
         net = nets[target]
         base_shell, fit_mm, fit_failures = shell_with_fallback(net, tol)
         ftol = replace(tol, fit_mm=fit_mm)
@@ -146,7 +149,8 @@ def measure_latency(nets: dict, growth: dict, probes: int, shell_probes: dict, s
                      "regions_touched_median": float(np.median(touched)) if touched else float("nan"),
                      "faces_rebuilt_median": float(np.median(faces_rebuilt)) if faces_rebuilt else float("nan"),
                      "core": _stats(core), "full_shell": _stats(full), "incremental": _stats(incr),
-                     "g1_incremental": _stats(g1)})
+                     "g1_incremental": _stats(g1),
+                     "reference_ms": 0.5 * (ref_before + (reference() if reference is not None else float("nan")))})
     return rows
 
 
