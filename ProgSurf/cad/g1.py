@@ -67,6 +67,36 @@ def _refine(surface):
     return s
 
 
+@dataclass(frozen=True)
+class _Refined:
+    """A G0 surface with the knots G1 needs inserted (_refine): its poles, full knot vectors, and
+    (u mults, v mults, u knots, v knots) for buildFromPolesMultsKnots."""
+
+    poles: FloatArray
+    ku: FloatArray
+    kv: FloatArray
+    mults_knots: tuple
+
+
+_REFINED: dict = {}
+
+
+def _refined(surface) -> _Refined:
+    """_Refined of a G0 surface, kept while the surface object lives: the G1 faces around a
+    changed one are rebuilt on unchanged G0 faces."""
+    entry = _REFINED.get(id(surface))
+    if entry is None or entry[0] is not surface:
+        if len(_REFINED) > 4096:
+            _REFINED.clear()
+        r = _refine(surface)
+        poles = to_array(r.getPoles())
+        poles.setflags(write=False)
+        entry = _REFINED[id(surface)] = (surface, _Refined(
+            poles, _full_knots(r, "U"), _full_knots(r, "V"),
+            (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots())))
+    return entry[1]
+
+
 def _full_knots(surface, direction: str) -> FloatArray:
     ks = getattr(surface, f"get{direction}Knots")()
     ms = getattr(surface, f"get{direction}Multiplicities")()
@@ -166,25 +196,28 @@ class _Seams:
                 out = out * (x * x * (3.0 - 2.0 * x))
         return out
 
-    def _pairs(self, edge_id: int, ts: FloatArray):
+    def _pairs(self, edge_id: int, ts: FloatArray, known: tuple | None = None):
         """The two G0 faces' unit normals and the seam tangent at edge parameters ts (m,):
         (na, nb, tangent), each (m, 3), and (m,) True where at least one normal is defined (where
-        only one is, it stands for both)."""
+        only one is, it stands for both). known: (FaceInfo, S_s, S_r) of one of the two faces at
+        these points, already evaluated by the caller."""
         ts = np.asarray(ts, dtype=float)
         (fa, ka, pa), (fb, kb, pb) = self.uses[edge_id]
         found = []
         for f, k, p in ((fa, ka, pa), (fb, kb, pb)):
+            if known is not None and f is known[0]:
+                found.append(known[1:])
+                continue
             w = p.a + ((1.0 - ts) if p.reversed else ts) * (p.b - p.a)
-            found.append((derivatives_of(f.surface), *_side_points(k, w)))
-        (da, sa, ra), (db, sb, rb) = found
-        ds, dr = da.derivatives(sa, ra)
+            found.append(derivatives_of(f.surface).derivatives(*_side_points(k, w)))
+        (ds, dr), (db_s, db_r) = found
         na, oka = _normals(ds, dr)
-        nb, okb = db.normals(sb, rb)
+        nb, okb = _normals(db_s, db_r)
         na = np.where(oka[:, None], na, nb)
         nb = np.where(okb[:, None], nb, na)
         return na, nb, ds if ka in (0, 2) else dr, oka | okb
 
-    def normals(self, edge_id: int, ts: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def normals(self, edge_id: int, ts: FloatArray, known: tuple | None = None) -> tuple[FloatArray, FloatArray]:
         """Common normals of the seam at edge parameters ts (m,): (m, 3), and (m,) True where
         defined. The mean of the faces' normals, plus the differences to the node normals at the
         seam's ends distributed linearly along it (core.continuity.common_normals; the ends are
@@ -192,7 +225,7 @@ class _Seams:
         e = self.edges[edge_id]
         n0, n1 = (self._node_target(e.node0), self._node_target(e.node1))
         ts = np.asarray(ts, dtype=float)
-        na, nb, tan, ok = self._pairs(edge_id, ts)
+        na, nb, tan, ok = self._pairs(edge_id, ts, known)
         out = np.zeros((len(ts), 3))
         if not ok.any():
             return out, ok
@@ -264,6 +297,10 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
     inside = ((np.array([p.a for p in pieces])[None, :] - 1e-12 <= w[:, None])
               & (w[:, None] <= np.array([p.b for p in pieces])[None, :] + 1e-12))
     owner = np.where(inside.any(axis=1), np.argmax(inside, axis=1), -1)
+    if not any(p.edge_id in seams.seam for p in pieces):
+        return target, weight
+    # this face's derivatives along the whole side, once: the seam normals and the flux use them
+    ds_all, dr_all = derivatives_of(info.surface).derivatives(*_side_points(k, w))
     for j, piece in enumerate(pieces):
         if piece.edge_id not in seams.seam:
             continue
@@ -272,12 +309,11 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
             continue
         t = (w[idx] - piece.a) / (piece.b - piece.a)
         t = np.clip(1.0 - t if piece.reversed else t, 0.0, 1.0)
-        normals, ok = seams.normals(piece.edge_id, t)
+        normals, ok = seams.normals(piece.edge_id, t, (info, ds_all[idx], dr_all[idx]))
         if not ok.any():
             continue
-        idx, x, t, normals = idx[ok], w[idx][ok], t[ok], normals[ok]
-        ds, dr = derivatives_of(info.surface).derivatives(*_side_points(k, x))
-        cross = dr if k in (0, 2) else ds                # the derivative across side k
+        idx, t, normals = idx[ok], t[ok], normals[ok]
+        cross = (dr_all if k in (0, 2) else ds_all)[idx]     # the derivative across side k
         taper = seams.taper(piece.edge_id, t)
         target[idx] = g1.flux_correction(cross, normals) * taper[:, None]
         weight[idx] = 1.0
@@ -286,8 +322,8 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
 
 def smooth_face(info, network, seams: _Seams) -> G1Face:
     """The G1 surface of one G0 FaceInfo (see the module docstring)."""
-    surface = _refine(info.surface)
-    ku, kv = _full_knots(surface, "U"), _full_knots(surface, "V")
+    refined = _refined(info.surface)
+    ku, kv = refined.ku, refined.kv
     side_knots = (ku, kv, ku, kv)
     free = tuple(not any(p.edge_id in seams.seam for p in pieces) and not any(p.edge_id in seams.sharp
                                                                             for p in pieces)
@@ -339,11 +375,9 @@ def smooth_face(info, network, seams: _Seams) -> G1Face:
         bu = h1u if i == 1 else h2u
         bv = h1v if j == 1 else h2v
         delta -= bu[:, None, None] * bv[None, :, None] * t
-    poles = to_array(surface.getPoles()) + delta
+    poles = refined.poles + delta
     out = Part.BSplineSurface()
-    out.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), surface.getUMultiplicities(),
-                                 surface.getVMultiplicities(), surface.getUKnots(), surface.getVKnots(),
-                                 False, False, 3, 3)
+    out.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), *refined.mults_knots, False, False, 3, 3)
     offset = float(np.linalg.norm(delta, axis=-1).max())   # convex hull bound of |S1 - S0|
     return G1Face(info.region_id, out, free, offset)
 
