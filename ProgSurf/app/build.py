@@ -93,11 +93,13 @@ def analyse(shape: Part.Shape, shell, result, n_strokes: int) -> Analysis:
     seams = tuple(cad_analysis.seam_stats(shell))
     fit = cad_analysis.fit_deviation(shell, result.network, n=9)
     deviation = [-1.0] * n_strokes
-    for rec in result.records:
-        if rec.status == "accepted" and rec.points is not None and len(rec.points):
-            d = cad_analysis.point_distances(shell, _sample(np.asarray(rec.points),
-                                                            DEVIATION_SAMPLES))
-            deviation[rec.index] = float(d.max())
+    kept = [rec for rec in result.records
+            if rec.status == "accepted" and rec.points is not None and len(rec.points)]
+    if kept:      # every stroke's samples in one call: one projection pass per face
+        samples = [_sample(np.asarray(rec.points), DEVIATION_SAMPLES) for rec in kept]
+        d = cad_analysis.point_distances(shell, np.vstack(samples))
+        for rec, part in zip(kept, np.split(d, np.cumsum([len(x) for x in samples])[:-1])):
+            deviation[rec.index] = float(part.max())
     return Analysis(
         seam_gap_mm=max((s.gap_max_mm for s in seams), default=0.0),
         seam_angle_deg=max((s.angle_max_deg for s in seams), default=0.0),

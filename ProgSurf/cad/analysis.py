@@ -14,7 +14,7 @@ import numpy as np
 
 from ..core.types import FloatArray
 from ._occ import Part, Vector
-from .faces import unit_normal
+from .faces import derivatives_of, is_plain_bspline, unit_normal
 
 SIDE_UV = (lambda w: (w, 0.0), lambda w: (1.0, w), lambda w: (w, 1.0), lambda w: (0.0, w))
 """(s, r) of side parameter w on sides bottom, right, top, left of a face's parameter square."""
@@ -144,6 +144,10 @@ def _project(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 1
     return min(best, math.sqrt((px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2))
 
 
+GRID_BLOCK = 2_000_000
+"""Points x grid samples whose squared distances surface_distances holds at once (16 MB)."""
+
+
 def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: int = 3) -> FloatArray:
     """(m,) distance from each point (m, 3) to the union of surface patches [(surface, (u0,u1,v0,v1))]:
     nearest samples of a grid on each patch, then a clamped Gauss-Newton projection on the
@@ -155,17 +159,61 @@ def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: i
     sizes = [len(xyz) for _, xyz in grids]
     starts = np.concatenate([[0], np.cumsum(sizes)])
     allxyz = np.concatenate([xyz for _, xyz in grids])
+    centre = allxyz.mean(axis=0)
+    grid_c = allxyz - centre
+    grid_sq = np.einsum("ij,ij->i", grid_c, grid_c)
     out = np.empty(len(pts))
-    for i, p in enumerate(pts):
-        d = np.linalg.norm(allxyz - p, axis=1)
-        per_face = np.minimum.reduceat(d, starts[:-1])
-        best = np.inf
-        for k in np.argsort(per_face, kind="stable")[:candidates]:
+    chunk = max(1, GRID_BLOCK // len(allxyz))
+    for lo in range(0, len(pts), chunk):
+        block = pts[lo:lo + chunk] - centre
+        # squared distances of a block of points to every grid sample at once (|p|^2 + |g|^2 - 2 p.g,
+        # about the grid's centre): only to pick the start of each projection, which measures
+        d2 = np.einsum("ij,ij->i", block, block)[:, None] + grid_sq[None, :] - 2.0 * block @ grid_c.T
+        per_face = np.minimum.reduceat(d2, starts[:-1], axis=1)
+        near = np.argsort(per_face, axis=1, kind="stable")[:, :candidates]
+        best = np.full(len(block), np.inf)
+        for k in np.unique(near):
+            rows = np.flatnonzero((near == k).any(axis=1))
             uv, _ = grids[k]
-            j = int(np.argmin(d[starts[k]:starts[k + 1]]))
-            best = min(best, _project(patches[k][0], patches[k][1], p, uv[j]))
-        out[i] = best
+            j = np.argmin(d2[rows, starts[k]:starts[k + 1]], axis=1)
+            surface, bounds = patches[k]
+            if is_plain_bspline(surface):
+                d = _project_many(surface, bounds, pts[lo + rows], uv[j])
+            else:
+                d = np.array([_project(surface, bounds, pts[lo + i], uv[jj]) for i, jj in zip(rows, j)])
+            best[rows] = np.minimum(best[rows], d)
+        out[lo:lo + len(block)] = best
     return out
+
+
+def _project_many(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 12) -> FloatArray:
+    """_project for many points (m, 3) on one non-rational B-spline patch at once, from starts uv
+    (m, 2): the same clamped Gauss-Newton steps, evaluated in numpy (cad.faces.SurfaceDerivatives)."""
+    u0, u1, v0, v1 = bounds
+    ev = derivatives_of(surface)
+    u, v = uv[:, 0].astype(float).copy(), uv[:, 1].astype(float).copy()
+    best = np.full(len(p), np.inf)
+    live = np.ones(len(p), dtype=bool)
+    for _ in range(iterations):
+        idx = np.flatnonzero(live)
+        if not len(idx):
+            break
+        q, a, b = ev.evaluate(u[idx], v[idx])
+        r = p[idx] - q
+        best[idx] = np.minimum(best[idx], np.linalg.norm(r, axis=1))
+        aa, ab, bb = (a * a).sum(1), (a * b).sum(1), (b * b).sum(1)
+        ar, br = (a * r).sum(1), (b * r).sum(1)
+        det = aa * bb - ab * ab
+        ok = det > 1e-300 * np.maximum(aa * bb, 1e-300)
+        safe = np.where(ok, det, 1.0)
+        nu = np.clip(u[idx] + (bb * ar - ab * br) / safe, u0, u1)
+        nv = np.clip(v[idx] + (aa * br - ab * ar) / safe, v0, v1)
+        moving = ok & (np.abs(nu - u[idx]) + np.abs(nv - v[idx]) >= 1e-13)
+        u[idx] = np.where(moving, nu, u[idx])
+        v[idx] = np.where(moving, nv, v[idx])
+        live[idx] = moving
+    q = ev.evaluate(u, v)[0]
+    return np.minimum(best, np.linalg.norm(p - q, axis=1))
 
 
 def point_distances(result, points: FloatArray) -> FloatArray:

@@ -133,13 +133,17 @@ class SurfaceDerivatives:
 
     def derivatives(self, s, r) -> tuple[FloatArray, FloatArray]:
         """(S_s, S_r), each (m, 3), at parameters s, r (m,)."""
+        return self.evaluate(s, r, values=False)[1:]
+
+    def evaluate(self, s, r, values: bool = True) -> tuple:
+        """(S or None, S_s, S_r), each (m, 3), at parameters s, r (m,)."""
         s, r = np.atleast_1d(np.asarray(s, dtype=float)), np.atleast_1d(np.asarray(r, dtype=float))
         bu, bu1 = self._at("u", s)
         bv, bv1 = self._at("v", r)
         ds, dr = self._contract(bu1, self.du, bv), self._contract(bu, self.dv, bv1)
         for d, tiny in ((ds, self._tiny[0]), (dr, self._tiny[1])):
             d[np.abs(d).max(axis=1) <= tiny] = 0.0
-        return ds, dr
+        return (self._contract(bu, self.poles, bv) if values else None), ds, dr
 
     def _at(self, direction: str, t: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Basis and derivative basis at t; where t is constant (a side's r or s) computed once,
@@ -167,3 +171,25 @@ class SurfaceDerivatives:
         ln = np.linalg.norm(n, axis=1)
         ok = ln > 1e-6 * np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
         return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
+
+
+_DERIVATIVES: dict = {}
+
+
+def derivatives_of(surface) -> SurfaceDerivatives:
+    """The SurfaceDerivatives of a surface, kept while the surface object lives (faces are reused
+    between builds)."""
+    entry = _DERIVATIVES.get(id(surface))
+    if entry is None or entry[0] is not surface:
+        if len(_DERIVATIVES) > 4096:
+            _DERIVATIVES.clear()
+        entry = _DERIVATIVES[id(surface)] = (surface, SurfaceDerivatives(surface))
+    return entry[1]
+
+
+def is_plain_bspline(surface) -> bool:
+    """True for a non-rational B-spline surface of degree <= 3 (what SurfaceDerivatives evaluates;
+    ProgSurf's faces are bicubic, a peer's GeomPlate surface may be of degree 8)."""
+    return (getattr(surface, "TypeId", "") == "Part::GeomBSplineSurface"
+            and not surface.isURational() and not surface.isVRational()
+            and surface.UDegree <= 3 and surface.VDegree <= 3)

@@ -24,7 +24,7 @@ from ..core import continuity as g1
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
-from .faces import SurfaceDerivatives, unit_normal
+from .faces import derivatives_of, unit_normal
 from .fit import basis_matrix
 
 MIN_SPANS = 16
@@ -270,20 +270,6 @@ def _normals(ds: FloatArray, dr: FloatArray) -> tuple[FloatArray, np.ndarray]:
     ln = np.linalg.norm(n, axis=1)
     ok = ln > 1e-6 * np.maximum(np.linalg.norm(ds, axis=1) * np.linalg.norm(dr, axis=1), 1e-300)
     return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
-
-
-_DERIVATIVES: dict = {}
-
-
-def derivatives_of(surface) -> SurfaceDerivatives:
-    """The SurfaceDerivatives of a surface, kept while the surface object lives (G0 faces are
-    reused between builds)."""
-    entry = _DERIVATIVES.get(id(surface))
-    if entry is None or entry[0] is not surface:
-        if len(_DERIVATIVES) > 4096:
-            _DERIVATIVES.clear()
-        entry = _DERIVATIVES[id(surface)] = (surface, SurfaceDerivatives(surface))
-    return entry[1]
 
 
 def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:

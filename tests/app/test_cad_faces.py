@@ -179,3 +179,29 @@ def test_fit_with_end_derivatives_meets_them_exactly():
         assert np.allclose(tuple(c.getD1(end)[1]), d1, atol=1e-8)
         assert np.allclose(tuple(c.getD2(end)[2]), d2, atol=1e-7)
     assert np.abs(basis_matrix(knots, t) @ poles - pts).max() <= 0.01
+
+
+def test_distances_by_numpy_projection_equal_occ_evaluation():
+    """cad.analysis.surface_distances projects onto ProgSurf's bicubic faces in numpy, all points
+    of a face at once; the same Gauss-Newton steps evaluated by OCC give the same distances."""
+    from pathlib import Path
+
+    from ProgSurf import cad
+    from ProgSurf.cad import analysis
+    from ProgSurf.core.pipeline import build
+    from ProgSurf.io import read_strokes
+
+    r = build(read_strokes(Path(__file__).resolve().parents[2] / "examples" / "clean4.xyz"))
+    shell = cad.build_shell(r.network, r.tol)
+    pts = np.vstack([rec.points for rec in r.records if rec.points is not None])
+    pts = np.vstack([pts, pts[::3] + np.random.default_rng(0).normal(scale=2.0, size=pts[::3].shape)])
+    fast = analysis.point_distances(shell, pts)
+    patches = [(f.surface, (0.0, 1.0, 0.0, 1.0)) for f in shell.faces]
+    grids = [analysis._grid(s, b, 41) for s, b in patches]
+    slow = []
+    for p in pts:      # the scalar path: nearest grid sample of the 3 nearest faces, then _project
+        per = [np.linalg.norm(xyz - p, axis=1) for _, xyz in grids]
+        near = np.argsort([d.min() for d in per], kind="stable")[:3]
+        slow.append(min(analysis._project(*patches[k], p, grids[k][0][int(np.argmin(per[k]))]) for k in near))
+    assert np.abs(fast - np.array(slow)).max() <= 1e-9
+    assert fast.max() > 1.0         # the jittered points are off the surface, and measured so
