@@ -75,12 +75,25 @@ def seam_stats(result, samples: int = 64) -> list[SeamStat]:
     for eid, uses in sorted(_edge_uses(result).items()):
         if len(uses) != 2:
             continue
-        gaps, angles = _seam_samples(uses[0], uses[1], t)
-        angles = angles[~np.isnan(angles)]
-        out.append(SeamStat(eid, uses[0][0].region_id, uses[1][0].region_id, float(gaps.max()),
-                            float(angles.max()) if len(angles) else 0.0,
-                            float(np.median(angles)) if len(angles) else 0.0))
+        (fa, ka, pa), (fb, kb, pb) = uses
+        key = (id(fa.surface), id(fb.surface), ka, kb, pa, pb, samples)
+        known = _SEAMS.get(key)
+        if known is None or known[0] is not fa.surface or known[1] is not fb.surface:
+            gaps, angles = _seam_samples(uses[0], uses[1], t)
+            angles = angles[~np.isnan(angles)]
+            stats = (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
+                     float(np.median(angles)) if len(angles) else 0.0)
+            if len(_SEAMS) > 4 * GRID_CACHE_FACES:
+                _SEAMS.clear()
+            known = _SEAMS[key] = (fa.surface, fb.surface, stats)
+        out.append(SeamStat(eid, fa.region_id, fb.region_id, *known[2]))
     return out
+
+
+_SEAMS: dict = {}
+"""Seam measurements kept between calls, per pair of surface objects and the pieces of their sides
+along the seam (a recompute after one stroke measures mostly the same seams); each entry holds its
+two surfaces, so the ids stay their own while cached."""
 
 
 def fit_deviation(result, network, n: int = 21) -> dict:
@@ -110,7 +123,10 @@ def _grid(surface, bounds, n: int) -> tuple[FloatArray, FloatArray]:
     u0, u1, v0, v1 = bounds
     uu, vv = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
     uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
-    grid = (uv, np.array([tuple(surface.value(float(u), float(v))) for u, v in uv]))
+    if is_plain_bspline(surface):      # all samples in one numpy evaluation (cad.faces)
+        grid = (uv, derivatives_of(surface).evaluate(uv[:, 0], uv[:, 1])[0])
+    else:
+        grid = (uv, np.array([tuple(surface.value(float(u), float(v))) for u, v in uv]))
     _GRIDS[id(surface)] = (surface, tuple(bounds), n, grid)
     while len(_GRIDS) > GRID_CACHE_FACES:
         del _GRIDS[next(iter(_GRIDS))]
