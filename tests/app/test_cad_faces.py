@@ -182,8 +182,9 @@ def test_fit_with_end_derivatives_meets_them_exactly():
 
 
 def test_distances_by_numpy_projection_equal_occ_evaluation():
-    """cad.analysis.surface_distances projects onto ProgSurf's bicubic faces in numpy, all points
-    of a face at once; the same Gauss-Newton steps evaluated by OCC give the same distances."""
+    """cad.analysis projects onto ProgSurf's bicubic faces in numpy, all points of a face at once
+    (_project_many); the same clamped Gauss-Newton steps evaluated by OCC (_project) give the same
+    distances from the same starts, on the face and off it."""
     from pathlib import Path
 
     from ProgSurf import cad
@@ -195,13 +196,13 @@ def test_distances_by_numpy_projection_equal_occ_evaluation():
     shell = cad.build_shell(r.network, r.tol)
     pts = np.vstack([rec.points for rec in r.records if rec.points is not None])
     pts = np.vstack([pts, pts[::3] + np.random.default_rng(0).normal(scale=2.0, size=pts[::3].shape)])
-    fast = analysis.point_distances(shell, pts)
-    patches = [(f.surface, (0.0, 1.0, 0.0, 1.0)) for f in shell.faces]
-    grids = [analysis._grid(s, b, 41) for s, b in patches]
-    slow = []
-    for p in pts:      # the scalar path: nearest grid sample of the 3 nearest faces, then _project
-        per = [np.linalg.norm(xyz - p, axis=1) for _, xyz in grids]
-        near = np.argsort([d.min() for d in per], kind="stable")[:3]
-        slow.append(min(analysis._project(*patches[k], p, grids[k][0][int(np.argmin(per[k]))]) for k in near))
-    assert np.abs(fast - np.array(slow)).max() <= 1e-9
-    assert fast.max() > 1.0         # the jittered points are off the surface, and measured so
+    bounds = (0.0, 1.0, 0.0, 1.0)
+    for f in shell.faces:
+        uv, xyz = analysis._grid(f.surface, bounds, 41)
+        starts = uv[np.argmin(np.linalg.norm(xyz[None, :, :] - pts[:, None, :], axis=2), axis=1)]
+        fast = analysis._project_many(f.surface, bounds, pts, starts)
+        slow = np.array([analysis._project(f.surface, bounds, p, s) for p, s in zip(pts, starts)])
+        assert np.abs(fast - slow).max() <= 1e-9
+    d = analysis.point_distances(shell, pts)
+    # the drawn strokes lie within their fairing (0.31 mm on clean4) of the surface; jittered points not
+    assert d[:len(pts) - len(pts[::3])].max() <= 0.5 and d.max() > 1.0
