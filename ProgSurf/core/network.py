@@ -132,6 +132,35 @@ NEAR_REGIONS = 4
 """Footpoints are first searched in this many regions nearest (by bounding box) to the point."""
 
 
+class _FacetPart:
+    """One region's piece of the footpoint facets: (xyz (F,3,3), uv (F,3,2), solver, owner (F,),
+    bounding box (2,3)) by index, as a tuple would be. The box comes from the evaluated grid at
+    once; the triangles and their Eq. 2 inverses only when first asked for (a footpoint search
+    reads the boxes of every region but the facets of the few near the point)."""
+
+    __slots__ = ("rid", "grid_xyz", "grid_uv", "box", "_full")
+
+    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray):
+        self.rid, self.grid_xyz, self.grid_uv = rid, grid_xyz, grid_uv
+        flat = grid_xyz.reshape(-1, 3)
+        self.box = np.stack([flat.min(axis=0), flat.max(axis=0)])
+        self._full = None
+
+    def __getitem__(self, k: int):
+        if k == 4:
+            return self.box
+        if self._full is None:
+            n = self.grid_xyz.shape[0] - 1
+            i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+            i, j = i.ravel(), j.ravel()
+            tris = (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
+            p, q = self.grid_xyz, self.grid_uv
+            fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
+            fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
+            self._full = (fx, fu, prepare(fx), np.full(len(fx), self.rid))
+        return self._full[k]
+
+
 def _join_parts(parts: list) -> Facets:
     """Facets of per-region pieces (network._facet_parts), joined in the given order."""
     return Facets(np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
@@ -525,17 +554,9 @@ class PatchNetwork:
             n = self.mesh_density
             g = np.linspace(0.0, 1.0, n + 1)
             ss, rr = np.meshgrid(g, g, indexing="ij")
-            i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-            i, j = i.ravel(), j.ravel()
-            tris = (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
             for rid in missing:
-                p = self.evaluate_region(rid, ss, rr)
-                q = self.local_to_uv(rid, ss, rr)
-                fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
-                fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
-                flat = fx.reshape(-1, 3)
-                self._facets[rid] = (fx, fu, prepare(fx), np.full(len(fx), rid),
-                                     np.stack([flat.min(axis=0), flat.max(axis=0)]))
+                self._facets[rid] = _FacetPart(rid, self.evaluate_region(rid, ss, rr),
+                                               self.local_to_uv(rid, ss, rr))
         return [self._facets[rid] for rid in self._regions]
 
     def facets(self) -> Facets:
