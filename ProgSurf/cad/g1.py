@@ -368,10 +368,10 @@ def smooth_face(info, network, seams: _Seams) -> G1Face:
     return G1Face(info.region_id, out, free, offset)
 
 
-def _face_key(info, network, seams: _Seams, at_node: dict) -> tuple:
-    """Everything smooth_face(info) reads, as object identities (G0 FaceInfos are reused by
-    build_shell only when their content is unchanged): the face, every face sharing a node with it
-    (node normals), and for each of its edges the face across it and whether it is a seam or sharp."""
+def _face_key(info, network, seams: _Seams) -> tuple:
+    """Everything smooth_face(info) reads: the face and, for each of its edges, the face across it
+    and whether it is a seam or sharp, as object identities (G0 FaceInfos are reused by build_shell
+    only when their content is unchanged); the normals of the nodes on its sides, by value."""
     ids, _ = network.region_corners(info.region_id)
     nodes = set(ids)
     edges = []
@@ -381,26 +381,29 @@ def _face_key(info, network, seams: _Seams, at_node: dict) -> tuple:
             nodes.update((e.node0, e.node1))
             other = tuple(sorted(id(f) for f, _, _ in seams.uses.get(p.edge_id, ())))
             edges.append((p.edge_id, e.node0, e.node1, other, p.edge_id in seams.seam, p.edge_id in seams.sharp))
-    return (id(info), tuple(sorted(edges)),
-            tuple(sorted((n, tuple(sorted(at_node.get(n, ())))) for n in nodes)))
+    return (id(info), tuple(sorted(edges)), tuple(sorted((n, _node_value(seams, n)) for n in nodes)))
+
+
+def _node_value(seams: _Seams, nid: int) -> tuple:
+    """What a G1 face reads of a node: its normal and the spread of its corner normals, rounded
+    to 1e-12 (a face rebuilt at the node with the same corner tangents gives them again up to
+    round-off, so the faces around it need not be rebuilt)."""
+    normal, spread = seams.node.get(nid, (None, 0.0))
+    return (None if normal is None else tuple(round(float(x), 12) for x in normal), round(float(spread), 9))
 
 
 def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
                  cache: dict | None = None, keep: dict | None = None) -> tuple[tuple, frozenset]:
     """G1Face per G0 FaceInfo (same order), and the ids of the seams kept sharp (kinked strokes).
 
-    cache : {key: G1Face} of an earlier call; a face whose inputs (its G0 face, its neighbours, the
-            faces around its nodes) are the same objects is taken from it.
+    cache : {key: G1Face} of an earlier call; a face whose inputs (its G0 face and neighbours, the
+            same objects; the normals of its nodes, the same values) are unchanged is taken from it.
     keep  : receives this call's entries (reused and new), for the next call."""
     sharp = g1.sharp_edges(network, angle_deg)
     seams = _Seams(infos, network, sharp)
-    at_node: dict = {}
-    for f in infos:
-        for nid in network.region_corners(f.region_id)[0]:
-            at_node.setdefault(nid, set()).add(id(f))
     out = []
     for info in infos:
-        key = ("g1", _face_key(info, network, seams, at_node))
+        key = ("g1", _face_key(info, network, seams))
         face = (cache or {}).get(key)
         if face is None:
             face = smooth_face(info, network, seams)
