@@ -138,25 +138,41 @@ class SurfaceDerivatives:
     def evaluate(self, s, r, values: bool = True) -> tuple:
         """(S or None, S_s, S_r), each (m, 3), at parameters s, r (m,)."""
         s, r = np.atleast_1d(np.asarray(s, dtype=float)), np.atleast_1d(np.asarray(r, dtype=float))
-        bu, bu1 = self._at("u", s)
-        bv, bv1 = self._at("v", r)
-        ds, dr = self._contract(bu1, self.du, bv), self._contract(bu, self.dv, bv1)
+        if len(s) > 1 and np.all(s == s[0]):          # along an iso-line s = const (a side)
+            bu, bu1 = self._row("u", s[0])
+            bv, bv1 = self._span["v"](r)
+            q = (self._iso(bu, self.poles, bv, 0) if values else None)
+            ds, dr = self._iso(bu1, self.du, bv, 0), self._iso(bu, self.dv, bv1, 0)
+        elif len(r) > 1 and np.all(r == r[0]):        # along r = const
+            bv, bv1 = self._row("v", r[0])
+            bu, bu1 = self._span["u"](s)
+            q = (self._iso(bv, self.poles, bu, 1) if values else None)
+            ds, dr = self._iso(bv, self.du, bu1, 1), self._iso(bv1, self.dv, bu, 1)
+        else:
+            bu, bu1 = self._span["u"](s)
+            bv, bv1 = self._span["v"](r)
+            q = self._contract(bu, self.poles, bv) if values else None
+            ds, dr = self._contract(bu1, self.du, bv), self._contract(bu, self.dv, bv1)
         for d, tiny in ((ds, self._tiny[0]), (dr, self._tiny[1])):
             d[np.abs(d).max(axis=1) <= tiny] = 0.0
-        return (self._contract(bu, self.poles, bv) if values else None), ds, dr
+        return q, ds, dr
 
-    def _at(self, direction: str, t: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Basis and derivative basis at t; where t is constant (a side's r or s) computed once,
-        and at 0 or 1 (clamped ends: only the end functions are 1) not computed at all."""
+    def _row(self, direction: str, t: float) -> tuple[FloatArray, FloatArray]:
+        """Basis and derivative basis (1, n) at one parameter; at 0 or 1 (clamped ends) only the
+        end functions are 1."""
         basis = self._span[direction]
-        if len(t) > 1 and np.all(t == t[0]):
-            if t[0] in (0.0, 1.0):
-                b, b1 = np.zeros((1, basis.n)), np.zeros((1, basis.n - 1))
-                b[0, -1 if t[0] == 1.0 else 0] = b1[0, -1 if t[0] == 1.0 else 0] = 1.0
-            else:
-                b, b1 = basis(t[:1])
-            return np.repeat(b, len(t), axis=0), np.repeat(b1, len(t), axis=0)
-        return basis(t)
+        if t in (0.0, 1.0):
+            b, b1 = np.zeros((1, basis.n)), np.zeros((1, basis.n - 1))
+            b[0, -1 if t == 1.0 else 0] = b1[0, -1 if t == 1.0 else 0] = 1.0
+            return b, b1
+        return basis(np.array([t]))
+
+    @staticmethod
+    def _iso(row: FloatArray, poles: FloatArray, basis: FloatArray, axis: int) -> FloatArray:
+        """sum over both pole indices with the fixed direction's basis `row` (1, n_axis) and the
+        other direction's `basis` (m, n_other): the iso-curve's poles first, then its points."""
+        curve = np.tensordot(row[0], poles, axes=([0], [axis]))        # (n_other, 3)
+        return basis @ curve
 
     @staticmethod
     def _contract(bu: FloatArray, poles: FloatArray, bv: FloatArray) -> FloatArray:

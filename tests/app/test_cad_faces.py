@@ -148,10 +148,15 @@ def test_surface_derivatives_evaluate_like_occ():
         occ_r = np.array([tuple(surface.getDN(float(a), float(b), 0, 1)) for a, b in zip(s, r)])
         assert np.abs(ds - occ_s).max() <= 1e-9 * np.abs(occ_s).max()
         assert np.abs(dr - occ_r).max() <= 1e-9 * np.abs(occ_r).max()
-        for side_r in (np.zeros(20), np.ones(20)):          # a side: constant parameter
-            a, b = d.derivatives(np.linspace(0, 1, 20), side_r)
-            oa = np.array([tuple(surface.getDN(float(x), float(y), 1, 0)) for x, y in zip(np.linspace(0, 1, 20), side_r)])
+        w = np.linspace(0, 1, 20)
+        for ss, rr in ((w, 0 * w), (w, 1 + 0 * w), (w, 0.61 + 0 * w), (0 * w, w), (1 + 0 * w, w), (0.37 + 0 * w, w)):
+            q, a, b = d.evaluate(ss, rr)        # an iso-line: the constant parameter's basis once
+            oq = np.array([tuple(surface.value(float(x), float(y))) for x, y in zip(ss, rr)])
+            oa = np.array([tuple(surface.getDN(float(x), float(y), 1, 0)) for x, y in zip(ss, rr)])
+            ob = np.array([tuple(surface.getDN(float(x), float(y), 0, 1)) for x, y in zip(ss, rr)])
+            assert np.abs(q - oq).max() <= 1e-9 * np.abs(oq).max()
             assert np.abs(a - oa).max() <= 1e-9 * max(np.abs(oa).max(), 1.0)
+            assert np.abs(b - ob).max() <= 1e-9 * max(np.abs(ob).max(), 1.0)
         n, ok = d.normals(s, r)
         for i in range(len(s)):
             if min(np.abs(occ_s[i]).max(), np.abs(occ_r[i]).max()) <= 1e-12 * np.abs(occ_s).max():
