@@ -10,9 +10,10 @@ already coincide and cuts an edge at a neighbour's vertex; it cannot close a rea
 
 Incremental (build_shell(previous=)): after one more stroke, curves whose edges are unchanged are
 reused; of a curve the stroke split or pulled, only the changed edges are fitted again, joined C2
-to the kept pieces; faces whose sides are unchanged are reused; new faces are sewn into the kept,
-already sewn ones. The result meets the same tolerances as a build from nothing, but is not pole
-for pole the same: it depends on the order of the edits.
+to the kept pieces; faces whose sides are unchanged are reused; new faces are sewn with the kept
+faces around them and put into the last shell in place of the faces they replace (sew_into), so
+the sewing follows the change, not the size of the shell. The result meets the same tolerances as
+a build from nothing, but is not pole for pole the same: it depends on the order of the edits.
 """
 from __future__ import annotations
 
