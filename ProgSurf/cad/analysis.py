@@ -160,8 +160,8 @@ def _project(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 1
     return min(best, math.sqrt((px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2))
 
 
-GRID_BLOCK = 2_000_000
-"""Points x grid samples whose squared distances surface_distances holds at once (16 MB)."""
+GRID_BLOCK = 250_000
+"""Points x grid samples whose squared distances surface_distances holds at once (2 MB)."""
 
 
 def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: int = 3) -> FloatArray:
