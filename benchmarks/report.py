@@ -131,6 +131,9 @@ def plot(lat: list, peers: list, path: str) -> None:
         p95 = [r[key]["p95_ms"] for r in lat]
         a.plot(x, med, "o-", color=colour, label=f"{label}, median")
         a.plot(x, p95, "x:", color=colour, alpha=0.6, label="p95")
+    g1 = [r.get("g1_incremental", {}).get("median_ms", float("nan")) for r in lat]
+    if any(math.isfinite(v) for v in g1):
+        a.plot(x, g1, "s-", color="C2", label="core + incremental G1 shell, median")
     a.axhline(CORE_TARGET_MS, color="C0", ls="--", lw=0.8)
     a.axhline(FACES_TARGET_MS, color="C1", ls="--", lw=0.8)
     a.axvline(TARGET_REGIONS, color="grey", ls=":", lw=0.8)

@@ -134,7 +134,7 @@ def main(argv: list[str] | None = None) -> int:
         "incremental = core + cad.build_shell(previous=shell of the network before the stroke): "
         "unchanged curves and faces reused; of a curve the stroke split or pulled only the changed "
         "edges refitted (joined C2 to the kept pieces); the faces along changed edges built again "
-        "and sewn into the kept, already sewn faces (what the document object does on recompute). "
+        "and sewn locally into the last shell, with the kept faces around them (what the document object does on recompute). "
         "full shell = core + the shell built from nothing. "
         "G1 incremental = the same from the network's G1 shell (G1 faces reused where their G0 face and "
         "neighbours are unchanged); "

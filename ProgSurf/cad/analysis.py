@@ -178,27 +178,35 @@ def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: i
     centre = allxyz.mean(axis=0)
     grid_c = allxyz - centre
     grid_sq = np.einsum("ij,ij->i", grid_c, grid_c)
-    out = np.empty(len(pts))
+    # the `candidates` nearest faces of each point, and the nearest grid sample on each (the start
+    # of its projection), found a block of points at a time
     chunk = max(1, GRID_BLOCK // len(allxyz))
+    near = np.empty((len(pts), min(candidates, len(grids))), dtype=int)
+    start = np.empty(near.shape, dtype=int)
     for lo in range(0, len(pts), chunk):
         block = pts[lo:lo + chunk] - centre
-        # squared distances of a block of points to every grid sample at once (|p|^2 + |g|^2 - 2 p.g,
-        # about the grid's centre): only to pick the start of each projection, which measures
+        # squared distances to every grid sample at once (|p|^2 + |g|^2 - 2 p.g about the grid's
+        # centre): they only choose where each projection starts; the projection measures
         d2 = np.einsum("ij,ij->i", block, block)[:, None] + grid_sq[None, :] - 2.0 * block @ grid_c.T
         per_face = np.minimum.reduceat(d2, starts[:-1], axis=1)
-        near = np.argsort(per_face, axis=1, kind="stable")[:, :candidates]
-        best = np.full(len(block), np.inf)
-        for k in np.unique(near):
-            rows = np.flatnonzero((near == k).any(axis=1))
-            uv, _ = grids[k]
-            j = np.argmin(d2[rows, starts[k]:starts[k + 1]], axis=1)
-            surface, bounds = patches[k]
-            if is_plain_bspline(surface):
-                d = _project_many(surface, bounds, pts[lo + rows], uv[j])
-            else:
-                d = np.array([_project(surface, bounds, pts[lo + i], uv[jj]) for i, jj in zip(rows, j)])
-            best[rows] = np.minimum(best[rows], d)
-        out[lo:lo + len(block)] = best
+        near[lo:lo + len(block)] = np.argsort(per_face, axis=1, kind="stable")[:, :near.shape[1]]
+        for c in range(near.shape[1]):
+            ks = near[lo:lo + len(block), c]
+            for k in np.unique(ks):
+                rows = np.flatnonzero(ks == k)
+                start[lo + rows, c] = np.argmin(d2[rows, starts[k]:starts[k + 1]], axis=1)
+    # then every face's projections at once
+    out = np.full(len(pts), np.inf)
+    for k in np.unique(near):
+        rows, cols = np.nonzero(near == k)
+        uv, _ = grids[k]
+        surface, bounds = patches[k]
+        begin = uv[start[rows, cols]]
+        if is_plain_bspline(surface):
+            d = _project_many(surface, bounds, pts[rows], begin)
+        else:
+            d = np.array([_project(surface, bounds, pts[i], b) for i, b in zip(rows, begin)])
+        np.minimum.at(out, rows, d)
     return out
 
 
