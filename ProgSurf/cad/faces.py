@@ -182,11 +182,16 @@ class SurfaceDerivatives:
 
     def normals(self, s, r) -> tuple[FloatArray, np.ndarray]:
         """Unit normals (m, 3) and (m,) True where defined, by unit_normal's rule."""
-        a, b = self.derivatives(s, r)
-        n = np.cross(a, b)
-        ln = np.linalg.norm(n, axis=1)
-        ok = ln > 1e-6 * np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
-        return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
+        return unit_normals(*self.derivatives(s, r))
+
+
+def unit_normals(ds: FloatArray, dr: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """unit_normal for many points from their derivatives S_s, S_r (m, 3): unit normals (m, 3)
+    and (m,) True where defined (zero rows where not)."""
+    n = np.cross(ds, dr)
+    ln = np.linalg.norm(n, axis=1)
+    ok = ln > 1e-6 * np.maximum(np.linalg.norm(ds, axis=1) * np.linalg.norm(dr, axis=1), 1e-300)
+    return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
 
 
 _DERIVATIVES: dict = {}

@@ -24,7 +24,7 @@ from ..core import continuity as g1
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
-from .faces import derivatives_of, unit_normal
+from .faces import derivatives_of, unit_normal, unit_normals
 from .fit import basis_matrix
 
 MIN_SPANS = 16
@@ -211,8 +211,8 @@ class _Seams:
             w = p.a + ((1.0 - ts) if p.reversed else ts) * (p.b - p.a)
             found.append(derivatives_of(f.surface).derivatives(*_side_points(k, w)))
         (ds, dr), (db_s, db_r) = found
-        na, oka = _normals(ds, dr)
-        nb, okb = _normals(db_s, db_r)
+        na, oka = unit_normals(ds, dr)
+        nb, okb = unit_normals(db_s, db_r)
         na = np.where(oka[:, None], na, nb)
         nb = np.where(okb[:, None], nb, na)
         return na, nb, ds if ka in (0, 2) else dr, oka | okb
@@ -254,7 +254,7 @@ class _Seams:
 
 
 def _side_points(k: int, w: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """(s, r) arrays of side k of the unit square at side parameters w (SIDE_PARAM, vectorised)."""
+    """(s, r) arrays of side k (bottom, right, top, left) of the unit square at side parameters w."""
     w = np.asarray(w, dtype=float)
     if k == 0:
         return w, np.zeros_like(w)
@@ -265,13 +265,6 @@ def _side_points(k: int, w: FloatArray) -> tuple[FloatArray, FloatArray]:
     return np.zeros_like(w), w
 
 
-def _normals(ds: FloatArray, dr: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    n = np.cross(ds, dr)
-    ln = np.linalg.norm(n, axis=1)
-    ok = ln > 1e-6 * np.maximum(np.linalg.norm(ds, axis=1) * np.linalg.norm(dr, axis=1), 1e-300)
-    return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
-
-
 def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray, FloatArray]:
     """Flux correction samples (m, 3) along side k of a face at side parameters w, and weights."""
     target = np.zeros((len(w), 3))
@@ -279,12 +272,12 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
     pieces = info.sides[k]
     if not pieces:
         return target, weight
+    if not any(p.edge_id in seams.seam for p in pieces):
+        return target, weight
     # the first piece whose [a, b] holds each sample (-1: none)
     inside = ((np.array([p.a for p in pieces])[None, :] - 1e-12 <= w[:, None])
               & (w[:, None] <= np.array([p.b for p in pieces])[None, :] + 1e-12))
     owner = np.where(inside.any(axis=1), np.argmax(inside, axis=1), -1)
-    if not any(p.edge_id in seams.seam for p in pieces):
-        return target, weight
     # this face's derivatives along the whole side, once: the seam normals and the flux use them
     ds_all, dr_all = derivatives_of(info.surface).derivatives(*_side_points(k, w))
     for j, piece in enumerate(pieces):
