@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.memo import per_object
 from ..core.types import FloatArray
 from ._occ import Part, Vector
 from .faces import derivatives_of, is_plain_bspline, unit_normal
@@ -76,24 +77,22 @@ def seam_stats(result, samples: int = 64) -> list[SeamStat]:
         if len(uses) != 2:
             continue
         (fa, ka, pa), (fb, kb, pb) = uses
-        key = (id(fa.surface), id(fb.surface), ka, kb, pa, pb, samples)
-        known = _SEAMS.get(key)
-        if known is None or known[0] is not fa.surface or known[1] is not fb.surface:
-            gaps, angles = _seam_samples(uses[0], uses[1], t)
+
+        def measure(a=uses[0], b=uses[1]) -> tuple:
+            gaps, angles = _seam_samples(a, b, t)
             angles = angles[~np.isnan(angles)]
-            stats = (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
-                     float(np.median(angles)) if len(angles) else 0.0)
-            if len(_SEAMS) > 4 * GRID_CACHE_FACES:
-                _SEAMS.clear()
-            known = _SEAMS[key] = (fa.surface, fb.surface, stats)
-        out.append(SeamStat(eid, fa.region_id, fb.region_id, *known[2]))
+            return (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
+                    float(np.median(angles)) if len(angles) else 0.0)
+
+        stats = per_object(_SEAMS, (fa.surface, fb.surface), measure, (ka, kb, pa, pb, samples),
+                           4 * GRID_CACHE_FACES)
+        out.append(SeamStat(eid, fa.region_id, fb.region_id, *stats))
     return out
 
 
 _SEAMS: dict = {}
-"""Seam measurements kept between calls, per pair of surface objects and the pieces of their sides
-along the seam (a recompute after one stroke measures mostly the same seams); each entry holds its
-two surfaces, so the ids stay their own while cached."""
+"""Seam measurements kept between calls (core.memo.per_object), per pair of surface objects and the
+pieces of their sides along the seam: a recompute after one stroke measures mostly the same seams."""
 
 
 def fit_deviation(result, network, n: int = 21) -> dict:

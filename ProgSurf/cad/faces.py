@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.errors import FitError
+from ..core.memo import per_object
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import DEGREE, _knots_mults, make_compatible, to_array, to_vectors
@@ -200,12 +201,7 @@ _DERIVATIVES: dict = {}
 def derivatives_of(surface) -> SurfaceDerivatives:
     """The SurfaceDerivatives of a surface, kept while the surface object lives (faces are reused
     between builds)."""
-    entry = _DERIVATIVES.get(id(surface))
-    if entry is None or entry[0] is not surface:
-        if len(_DERIVATIVES) > 4096:
-            _DERIVATIVES.clear()
-        entry = _DERIVATIVES[id(surface)] = (surface, SurfaceDerivatives(surface))
-    return entry[1]
+    return per_object(_DERIVATIVES, (surface,), lambda: SurfaceDerivatives(surface))
 
 
 def is_plain_bspline(surface) -> bool:

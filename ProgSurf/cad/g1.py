@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import continuity as g1
+from ..core.memo import per_object
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
@@ -84,17 +85,14 @@ _REFINED: dict = {}
 def _refined(surface) -> _Refined:
     """_Refined of a G0 surface, kept while the surface object lives: the G1 faces around a
     changed one are rebuilt on unchanged G0 faces."""
-    entry = _REFINED.get(id(surface))
-    if entry is None or entry[0] is not surface:
-        if len(_REFINED) > 4096:
-            _REFINED.clear()
+    def make() -> _Refined:
         r = _refine(surface)
         poles = to_array(r.getPoles())
         poles.setflags(write=False)
-        entry = _REFINED[id(surface)] = (surface, _Refined(
-            poles, _full_knots(r, "U"), _full_knots(r, "V"),
-            (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots())))
-    return entry[1]
+        return _Refined(poles, _full_knots(r, "U"), _full_knots(r, "V"),
+                        (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots()))
+
+    return per_object(_REFINED, (surface,), make)
 
 
 def _full_knots(surface, direction: str) -> FloatArray:
@@ -270,8 +268,6 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
     target = np.zeros((len(w), 3))
     weight = np.zeros(len(w))
     pieces = info.sides[k]
-    if not pieces:
-        return target, weight
     if not any(p.edge_id in seams.seam for p in pieces):
         return target, weight
     # the first piece whose [a, b] holds each sample (-1: none)

@@ -207,9 +207,10 @@ def _seed_knots(before: dict, start: int, end: int) -> list:
     return []
 
 
-def _chain_seed(chain: list, before: dict) -> list:
-    """Seed knots for a whole refit of a curve that was fitted before as one edge between the
-    same end nodes (a curve a stroke split or pulled, with no edge left unchanged); [] otherwise."""
+def _chain_seed(chain: list, before: dict | None) -> list:
+    """Seed knots for fitting a chain (a whole curve, or a run of its changed edges): those of the
+    earlier edge that ran between the same end nodes (one a stroke has split or pulled); []
+    when there is none."""
     if not before:
         return []
     start = chain[0][0].node1 if chain[0][1] else chain[0][0].node0
@@ -243,9 +244,7 @@ def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept:
         if j < n - 1 and not _kink(*chain[j], *chain[j + 1]):
             e, rev = chain[j + 1]
             derivs[1.0] = _end_derivatives(kept[e.id], rev, False, run_length / _uv_length(e))
-        start = run[0][0].node1 if run[0][1] else run[0][0].node0
-        end = run[-1][0].node0 if run[-1][1] else run[-1][0].node1
-        out.update(_fit_curve(run, nodes, tol_mm, curve_id, derivs, _seed_knots(before or {}, start, end)))
+        out.update(_fit_curve(run, nodes, tol_mm, curve_id, derivs, _chain_seed(run, before)))
         k = j + 1
     return out
 

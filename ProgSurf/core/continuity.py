@@ -33,6 +33,7 @@ import numpy.typing as npt
 
 from .coons import f1, f2
 from .errors import ProgSurfError
+from .memo import per_object
 from .types import FloatArray, Polyline
 
 KINK_ANGLE_DEG = 30.0
@@ -168,20 +169,14 @@ def sharp_edges(network, angle_deg: float = KINK_ANGLE_DEG) -> frozenset:
     for cid, group in by_curve.items():
         if cid in (0, 1, 2, 3):
             continue
-        for e in group:
-            key = (id(e.polyline), angle_deg)
-            known = _KINKED.get(key)
-            if known is None or known[0] is not e.polyline:     # polylines are immutable
-                if len(_KINKED) > 8192:
-                    _KINKED.clear()
-                known = _KINKED[key] = (e.polyline, is_kinked(e.polyline, angle_deg))
-            if known[1]:
+        for e in group:        # polylines are immutable: an unchanged edge is not tested again
+            if per_object(_KINKED, (e.polyline,), lambda: is_kinked(e.polyline, angle_deg), (angle_deg,), 8192):
                 out.add(e.id)
     return frozenset(out)
 
 
 _KINKED: dict = {}
-"""(id(polyline), angle) -> (polyline, is_kinked): an unchanged edge is not tested again."""
+"""is_kinked per polyline and angle (core.memo.per_object)."""
 
 
 def node_normal(corner_normals: list) -> tuple[FloatArray | None, float]:

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -132,6 +133,14 @@ NEAR_REGIONS = 4
 """Footpoints are first searched in this many regions nearest (by bounding box) to the point."""
 
 
+@lru_cache(maxsize=8)
+def _grid_triangles(n: int) -> tuple:
+    """The two triangles of each cell of an (n+1) x (n+1) grid, as index pairs of their corners."""
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    return (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
+
+
 class _FacetPart:
     """One region's piece of the footpoint facets: (xyz (F,3,3), uv (F,3,2), solver, owner (F,),
     bounding box (2,3)) by index, as a tuple would be. The box comes from the evaluated grid at
@@ -150,10 +159,7 @@ class _FacetPart:
         if k == 4:
             return self.box
         if self._full is None:
-            n = self.grid_xyz.shape[0] - 1
-            i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-            i, j = i.ravel(), j.ravel()
-            tris = (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
+            tris = _grid_triangles(self.grid_xyz.shape[0] - 1)
             p, q = self.grid_xyz, self.grid_uv
             fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
             fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
