@@ -1,12 +1,12 @@
 """ProgSurf GUI layer: commands, view providers, task panels, preferences, analysis view.
 
 The only package that imports FreeCADGui or PySide. InitGui.py calls the two functions below
-when the workbench is first activated.
+when the workbench is first activated. Messages, file dialogs, icon and .ui paths live in
+``common``, which imports no other GUI module; face colouring lives in ``face_colours``.
 """
-import os
+from __future__ import annotations
 
-UI_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                      "resources", "ui")
+import os
 
 
 def register_commands() -> list[str]:
@@ -27,7 +27,7 @@ def register_preferences() -> None:
     """
     import FreeCADGui
 
-    from .view_providers import ICONS
+    from .common import ICONS, UI_DIR
 
     FreeCADGui.addIconPath(ICONS)
     FreeCADGui.addPreferencePage(os.path.join(UI_DIR, "preferences.ui"), "ProgSurf")

@@ -1,4 +1,4 @@
-"""The Analyse view: faces coloured by stroke deviation or seam defect, a table of stroke
+"""The Analyse view: faces coloured by stroke deviation (face_colours), a table of stroke
 deviations and seam defects, and a picture of the pre-image plane (Qin & Wright section 3: the
 unit square divided into 3- and 4-sided regions, with each interior stroke's pre-image line).
 
@@ -12,34 +12,12 @@ import io
 import numpy as np
 from PySide import QtCore, QtGui
 
-from ProgSurf.app import build
+from .common import tell
 
 CURRENT = None
 REGION_COLOURS = ("#fff2cc", "#dae8fc", "#d5e8d4", "#f8cecc", "#e1d5e7", "#ffe6cc")
 STROKE_COLOURS = ("#1f77b4", "#2ca02c", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
                   "#17becf", "#bcbd22", "#7f7f7f")
-
-
-def colour_map(values: list) -> list:
-    """Blue (0) -> green -> red (largest value) as RGB tuples in 0..1."""
-    top = max(values, default=0.0)
-    out = []
-    for v in values:
-        t = 0.0 if top <= 0 else min(max(v / top, 0.0), 1.0)
-        out.append((t, 1.0 - abs(2 * t - 1.0), 1.0 - t) if t > 0 else (0.2, 0.3, 0.9))
-    return out
-
-
-def colour_faces(vobj) -> None:
-    """Apply the ViewObject's ColourBy mode to the faces (DiffuseColor, one colour per face)."""
-    obj = vobj.Object
-    faces = len(obj.Shape.Faces) if not obj.Shape.isNull() else 0
-    mode = getattr(vobj, "ColourBy", "None")
-    values = build.face_values(obj, mode) if mode != "None" and faces else None
-    if values is None:
-        vobj.DiffuseColor = [tuple(vobj.ShapeColor)[:3]] * max(faces, 1)
-        return
-    vobj.DiffuseColor = colour_map(values)
 
 
 def region_polygon(region, edges: dict) -> np.ndarray:
@@ -110,8 +88,6 @@ def show(surface) -> "AnalysisDialog | None":
     """Analyse command: colour the faces and open the analysis dialog."""
     global CURRENT
     if not ensure_build(surface):
-        from .commands import tell
-
         tell("Analyse surface", f"{surface.Label} has no valid build to analyse: "
              f"{surface.LastError or 'recompute it first'}")
         return None

@@ -1,9 +1,8 @@
 """The workbench's commands. Each one that changes the document builds its make_* call inside
 ONE named undo transaction (as Draft's draftguitools do).
 
-Dialogs are drivable without interaction: a test sets ``ANSWERS["open"]`` / ``ANSWERS["save"]``
-to a path (used once instead of the file dialog) and reads messages from ``MESSAGES`` when
-``INTERACTIVE`` is False.
+Messages and file dialogs go through ProgSurf.gui.common (``tell``, ``ask_path``), whose
+``ANSWERS`` / ``MESSAGES`` / ``INTERACTIVE`` hooks let a test drive them without interaction.
 """
 from __future__ import annotations
 
@@ -18,37 +17,10 @@ from ProgSurf.app.stroke_object import is_stroke
 from ProgSurf.app.surface_object import is_surface
 from ProgSurf.core.errors import ProgSurfError
 
-from .view_providers import icon
+from .common import ask_path, icon, tell
 
-INTERACTIVE = True
-ANSWERS: dict = {}
-MESSAGES: list = []
 STROKE_FILTER = "Stroke files (*.xyz *.txt *.csv *.asc *.c3d);;All files (*)"
 EXPORT_FILTER = "STEP (*.step *.stp);;IGES (*.iges *.igs)"
-
-
-def tell(title: str, text: str, error: bool = True) -> None:
-    """Report to the user: Report view always, a message box when interactive."""
-    (FreeCAD.Console.PrintError if error else FreeCAD.Console.PrintMessage)(
-        f"ProgSurf: {text}\n")
-    MESSAGES.append((title, text))
-    if INTERACTIVE:
-        from PySide import QtGui
-
-        box = QtGui.QMessageBox.critical if error else QtGui.QMessageBox.information
-        box(FreeCADGui.getMainWindow(), title, text)
-
-
-def ask_path(kind: str, caption: str, file_filter: str) -> str:
-    """A file path from the test hook ANSWERS[kind], else from a file dialog ('' = cancel)."""
-    if kind in ANSWERS:
-        return ANSWERS.pop(kind)
-    from PySide import QtGui
-
-    dialog = QtGui.QFileDialog.getOpenFileName if kind == "open" else \
-        QtGui.QFileDialog.getSaveFileName
-    path, _ = dialog(FreeCADGui.getMainWindow(), caption, "", file_filter)
-    return path
 
 
 def selected() -> list:

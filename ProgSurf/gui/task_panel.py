@@ -16,7 +16,7 @@ from ProgSurf.app.stroke_object import is_stroke
 from ProgSurf.app.surface_object import stroke_states
 from ProgSurf.core.errors import ProgSurfError
 
-from .view_providers import icon
+from .common import icon, tell
 
 CURRENT = None
 
@@ -30,8 +30,6 @@ def create_surface(preselected: list) -> "SurfacePanel | None":
         surface = make.make_surface(all_strokes=strokes)
     except ProgSurfError as exc:
         doc.abortTransaction()
-        from .commands import tell
-
         tell("Create progressive surface", str(exc))
         return None
     return _show(SurfacePanel(surface, created=True))

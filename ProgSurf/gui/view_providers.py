@@ -2,14 +2,12 @@
 
 Stroke colour tells its outcome in the surface that uses it: boundary (blue), interior accepted
 (green), rejected (red), unused (grey). The surface can colour its faces by an analysis value
-(``ColourBy``), recomputed whenever its Shape changes.
+(``ColourBy``, see face_colours), recomputed whenever its Shape changes.
 """
 from __future__ import annotations
 
-import os
-
-ICONS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                     "resources", "icons")
+from .common import icon
+from .face_colours import COLOUR_BY, colour_faces
 
 COLOURS = {
     ("boundary", "accepted"): (0.10, 0.30, 0.90),
@@ -17,12 +15,6 @@ COLOURS = {
     "rejected": (0.90, 0.10, 0.10),
     "unused": (0.45, 0.45, 0.45),
 }
-COLOUR_BY = ["None", "Stroke deviation", "Seam defect"]
-
-
-def icon(name: str) -> str:
-    """Absolute path of resources/icons/<name>.svg."""
-    return os.path.join(ICONS, f"{name}.svg")
 
 
 def stroke_colour(role: str, status: str) -> tuple:
@@ -126,9 +118,7 @@ class ViewProviderSurface(_Base):
             self.apply_colours(vobj)
 
     def apply_colours(self, vobj) -> None:
-        from . import analysis_view  # the colour map lives with the analysis view
-
-        analysis_view.colour_faces(vobj)
+        colour_faces(vobj)
 
     def setEdit(self, vobj, mode: int = 0) -> bool:
         if mode != 0:

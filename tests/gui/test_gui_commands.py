@@ -1,7 +1,7 @@
 """Every ProgSurf command run through FreeCADGui.runCommand in the real GUI under Xvfb.
 
 After each step a screenshot is taken; it must not be blank, and it must differ from the one
-before where the step changed the scene. Dialogs are driven through ProgSurf.gui.commands'
+before where the step changed the scene. Dialogs are driven through ProgSurf.gui.common's
 ANSWERS/INTERACTIVE hooks and the task panel's CURRENT handle, never by clicking.
 
 Set PROGSURF_GUI_SHOTS=<folder> to keep the screenshots (docs/gui_*.png were taken that way).
@@ -19,10 +19,10 @@ sys.path.insert(0, {root!r})
 sys.path.insert(0, {root!r} + "/tests/app")
 import Part
 Gui.activateWorkbench("ProgSurfWorkbench")
-import ProgSurf.gui.commands as commands
+import ProgSurf.gui.common as common
 import ProgSurf.gui.task_panel as task_panel
 import ProgSurf.gui.analysis_view as analysis_view
-commands.INTERACTIVE = False
+common.INTERACTIVE = False
 COMMANDS = ["ProgSurf_ImportStrokes", "ProgSurf_StrokesFromSelection", "ProgSurf_CreateSurface",
             "ProgSurf_AddInterior", "ProgSurf_Export", "ProgSurf_Analyse"]
 
@@ -68,7 +68,7 @@ check("ProgSurf" in wb.listToolbars() and "ProgSurf" in wb.listMenus(), "toolbar
 grab_window("gui_workbench")
 doc = App.newDocument("Bundled")
 Gui.activeDocument().activeView().viewIsometric()
-commands.ANSWERS["open"] = {root!r} + "/examples/{example}"
+common.ANSWERS["open"] = {root!r} + "/examples/{example}"
 Gui.runCommand("ProgSurf_ImportStrokes")
 process_events(0.5)
 strokes = [o for o in doc.Objects if getattr(o, "Type", "") == "ProgSurf::Stroke"]
@@ -118,7 +118,7 @@ if dialog is not None:
     dialog.close()
 
 step = os.path.join(OUT, "surface.step")
-commands.ANSWERS["save"] = step
+common.ANSWERS["save"] = step
 Gui.runCommand("ProgSurf_Export")
 back = Part.read(step)
 report("step_faces", len(back.Faces))
@@ -133,7 +133,7 @@ check(len(back.Faces) == surface.PatchCount, "File > Export IGES has every face"
 # motion capture: strokes from a .c3d file, or a message that says how to install the reader
 import importlib.util
 mocap = App.newDocument("Mocap")
-commands.ANSWERS["open"] = {root!r} + "/examples/sketch_mocap.c3d"
+common.ANSWERS["open"] = {root!r} + "/examples/sketch_mocap.c3d"
 Gui.runCommand("ProgSurf_ImportStrokes")
 process_events(0.5)
 n = len([o for o in mocap.Objects if getattr(o, "Type", "") == "ProgSurf::Stroke"])
@@ -141,7 +141,7 @@ report("c3d_strokes", n)
 if importlib.util.find_spec("c3d") is not None:
     check(n >= 4, "C3D strokes imported")
 else:
-    check(n == 0 and "install" in commands.MESSAGES[-1][1], "C3D install hint")
+    check(n == 0 and "install" in common.MESSAGES[-1][1], "C3D install hint")
 '''
 
 SKETCHES = COMMON + r'''

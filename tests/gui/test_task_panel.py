@@ -20,9 +20,9 @@ PANEL = r'''
 import sys
 sys.path.insert(0, {root!r})
 Gui.activateWorkbench("ProgSurfWorkbench")
-import ProgSurf.gui.commands as commands
+import ProgSurf.gui.common as common
 import ProgSurf.gui.task_panel as task_panel
-commands.INTERACTIVE = False
+common.INTERACTIVE = False
 
 
 def state(surface):
@@ -39,7 +39,7 @@ def rows(panel):
 doc = App.newDocument("Panel")
 doc.UndoMode = 1
 Gui.activeDocument().activeView().viewIsometric()
-commands.ANSWERS["open"] = {root!r} + "/examples/clean4.xyz"
+common.ANSWERS["open"] = {root!r} + "/examples/clean4.xyz"
 Gui.runCommand("ProgSurf_ImportStrokes")
 process_events(0.5)
 strokes = [o for o in doc.Objects if getattr(o, "Type", "") == "ProgSurf::Stroke"]
