@@ -15,48 +15,37 @@ from ProgSurf.core.errors import InvalidStrokeError
 
 from . import extract
 from .params import default_tolerances
+from .proxy import PROP_OUTPUT, FeatureProxy, add_property
 
 TYPE = "ProgSurf::Stroke"
-PROP_OUTPUT = 8
-"""App::Property::Output: a change does not mark the object touched (FreeCAD PropertyType)."""
 
 ROLES = ("", "boundary", "interior")
 STATUSES = ("", "accepted", "rejected")
 
 
-def _add(obj, kind: str, name: str, group: str, doc: str, attr: int = 0, read_only=False):
-    if name not in obj.PropertiesList:
-        obj.addProperty(kind, name, group, doc, attr)
-    if read_only:
-        obj.setEditorMode(name, 1)
-
-
-class StrokeProxy:
+class StrokeProxy(FeatureProxy):
     """Proxy of a Part::FeaturePython stroke. State saved: a tiny JSON-safe dict."""
 
-    def __init__(self, obj) -> None:
-        obj.Proxy = self
-        self.Object = obj
-        self.setup(obj)
+    PROXY_TYPE = TYPE
 
     def setup(self, obj) -> None:
         """Create missing properties (new objects and documents saved by older versions)."""
-        _add(obj, "App::PropertyString", "Type", "Base", "ProgSurf object type", read_only=True)
-        obj.Type = TYPE
-        _add(obj, "App::PropertyVectorList", "Points", "Stroke",
-             "Stroke points in mm, global frame (computed from Source when Source is set)")
-        _add(obj, "App::PropertyLinkSub", "Source", "Stroke",
-             "Sketch, wire or edges this stroke follows (empty: the stroke owns its Points)")
-        _add(obj, "App::PropertyInteger", "ChainIndex", "Stroke",
-             "Which connected chain of the Source's edges this stroke is (0 = first)")
-        _add(obj, "App::PropertyInteger", "Samples", "Stroke",
-             "Points taken along the Source chain (by arc length)")
+        super().setup(obj)
+        add_property(obj, "App::PropertyVectorList", "Points", "Stroke",
+                     "Stroke points in mm, global frame (computed from Source when Source is set)")
+        add_property(obj, "App::PropertyLinkSub", "Source", "Stroke", "Sketch, wire or edges "
+                     "this stroke follows (empty: the stroke owns its Points)")
+        add_property(obj, "App::PropertyInteger", "ChainIndex", "Stroke",
+                     "Which connected chain of the Source's edges this stroke is (0 = first)")
+        add_property(obj, "App::PropertyInteger", "Samples", "Stroke",
+                     "Points taken along the Source chain (by arc length)")
         if obj.Samples < 2:
             obj.Samples = default_tolerances().samples
         for name, doc in (("Role", "boundary or interior, set by the surface that uses it"),
                           ("Status", "accepted or rejected, set by the surface that uses it"),
                           ("Reason", "why the surface rejected this stroke")):
-            _add(obj, "App::PropertyString", name, "Result", doc, PROP_OUTPUT, read_only=True)
+            add_property(obj, "App::PropertyString", name, "Result", doc, PROP_OUTPUT,
+                         read_only=True)
 
     def execute(self, obj) -> None:
         """Recompute Points from the Source chain (if linked) and the polyline Shape."""
@@ -69,22 +58,6 @@ class StrokeProxy:
                     f"has {len(chains)} connected chain(s); set ChainIndex to 0..{len(chains) - 1}")
             obj.Points = extract.array_to_vectors(chains[obj.ChainIndex])
         obj.Shape = extract.polyline_shape(list(obj.Points))
-
-    def onDocumentRestored(self, obj) -> None:
-        self.Object = obj
-        self.setup(obj)
-
-    def __getstate__(self) -> dict:
-        return {"type": TYPE, "version": 1}
-
-    def __setstate__(self, state) -> None:
-        return None
-
-    def dumps(self) -> dict:
-        return self.__getstate__()
-
-    def loads(self, state) -> None:
-        return self.__setstate__(state)
 
 
 def is_stroke(obj) -> bool:

@@ -22,7 +22,7 @@ from ProgSurf.core.types import Tolerances
 
 from . import stroke_object
 from .params import default_tolerances
-from .stroke_object import PROP_OUTPUT, _add
+from .proxy import PROP_OUTPUT, FeatureProxy, add_property
 
 TYPE = "ProgSurf::Surface"
 CONTINUITY = ["G0", "G1"]
@@ -42,31 +42,34 @@ RESULTS = (
 )
 
 
-class SurfaceProxy:
+class SurfaceProxy(FeatureProxy):
     """Proxy of a Part::FeaturePython progressive surface. Saved state: a tiny JSON-safe dict.
 
     The last BuildResult and analysis are kept on the proxy for the Analyse view only
     (transient: a reopened document rebuilds them on recompute).
     """
 
+    PROXY_TYPE = TYPE
+
     def __init__(self, obj) -> None:
-        obj.Proxy = self
-        self.Object = obj
+        self.forget_build()
+        super().__init__(obj)
+
+    def forget_build(self) -> None:
+        """Drop the transient last build (a reopened document rebuilds it on recompute)."""
         self.result = None
         self.analysis = None
         self.shell = None
-        self.setup(obj)
 
     def setup(self, obj) -> None:
         """Create missing properties (new objects and documents saved by older versions)."""
-        _add(obj, "App::PropertyString", "Type", "Base", "ProgSurf object type", read_only=True)
-        obj.Type = TYPE
-        _add(obj, "App::PropertyLinkList", "Boundary", "Strokes",
-             "Boundary strokes; with AutoBoundary: all strokes to classify")
-        _add(obj, "App::PropertyBool", "AutoBoundary", "Strokes",
-             "Classify the Boundary list automatically into boundary and interior strokes")
-        _add(obj, "App::PropertyLinkList", "Interior", "Strokes",
-             "Interior strokes in drawing order (later strokes win)")
+        super().setup(obj)
+        add_property(obj, "App::PropertyLinkList", "Boundary", "Strokes",
+                     "Boundary strokes; with AutoBoundary: all strokes to classify")
+        add_property(obj, "App::PropertyBool", "AutoBoundary", "Strokes",
+                     "Classify the Boundary list automatically into boundary and interior strokes")
+        add_property(obj, "App::PropertyLinkList", "Interior", "Strokes",
+                     "Interior strokes in drawing order (later strokes win)")
         defaults = default_tolerances()
         for name, doc, value in (
                 ("FilterThreshold", "Stroke filter distance in mm (0 = automatic)",
@@ -78,8 +81,8 @@ class SurfaceProxy:
             if name not in obj.PropertiesList:
                 obj.addProperty("App::PropertyFloat", name, "Tolerances", doc)
                 setattr(obj, name, value)
-        _add(obj, "App::PropertyBool", "Skin", "Surface",
-             "Exchange surface: one B-spline skinned through u-sections (paper section 3.3)")
+        add_property(obj, "App::PropertyBool", "Skin", "Surface", "Exchange surface: one "
+                     "B-spline skinned through u-sections (paper section 3.3)")
         if "Continuity" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Continuity", "Surface",
                             "Continuity across seams: G0 Coons sub-patches, G1 tangent-continuous seams "
@@ -91,7 +94,7 @@ class SurfaceProxy:
             obj.Continuity = CONTINUITY
             obj.Continuity = current
         for kind, name, doc in RESULTS:
-            _add(obj, kind, name, "Result", doc, PROP_OUTPUT, read_only=True)
+            add_property(obj, kind, name, "Result", doc, PROP_OUTPUT, read_only=True)
 
     # -- recompute -------------------------------------------------------------------------
     def strokes(self, obj) -> list:
@@ -155,25 +158,11 @@ class SurfaceProxy:
         self.result, self.analysis, self.shell = memory
 
     def onDocumentRestored(self, obj) -> None:
-        self.Object = obj
-        self.result = None
-        self.analysis = None
-        self.shell = None
-        self.setup(obj)
-
-    def __getstate__(self) -> dict:
-        return {"type": TYPE, "version": 1}
+        self.forget_build()
+        super().onDocumentRestored(obj)
 
     def __setstate__(self, state) -> None:
-        self.result = None
-        self.analysis = None
-        self.shell = None
-
-    def dumps(self) -> dict:
-        return self.__getstate__()
-
-    def loads(self, state) -> None:
-        return self.__setstate__(state)
+        self.forget_build()
 
 
 def is_surface(obj) -> bool:
