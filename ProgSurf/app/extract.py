@@ -4,8 +4,8 @@ A designer's "stroke" is one connected chain of curve pieces. A Sketcher sketch 
 chains: each becomes one stroke. Chains are sampled by arc length and returned in 3D, in the
 global frame (the sketch's global placement is applied).
 
-The numpy <-> FreeCAD.Vector conversion of the document layer lives here and nowhere else in
-ProgSurf.app.
+Stroke points are checked here (shape, NaN/inf) and converted between numpy and FreeCAD.Vector
+by the cad adapter's one conversion (ProgSurf.cad.curves.to_vectors / to_array).
 """
 from __future__ import annotations
 
@@ -14,9 +14,10 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-import FreeCAD
+import FreeCAD  # noqa: F401  (FreeCAD before Part)
 import Part
 
+from ProgSurf.cad.curves import to_array, to_vectors
 from ProgSurf.core.errors import InvalidStrokeError
 
 JOIN_TOL_MM = 1e-5
@@ -24,8 +25,8 @@ JOIN_TOL_MM = 1e-5
 
 
 def vectors_to_array(vectors: Iterable) -> np.ndarray:
-    """FreeCAD vectors -> (n, 3) float array."""
-    return np.array([[v.x, v.y, v.z] for v in vectors], dtype=float).reshape(-1, 3)
+    """FreeCAD vectors -> (n, 3) float array ((0, 3) when there are none)."""
+    return to_array(vectors).reshape(-1, 3)
 
 
 def array_to_vectors(points) -> list:
@@ -35,7 +36,7 @@ def array_to_vectors(points) -> list:
         raise InvalidStrokeError(f"stroke points have shape {arr.shape}; expected (n, 3)")
     if not np.all(np.isfinite(arr)):
         raise InvalidStrokeError("stroke points contain NaN or inf; remove those rows")
-    return [FreeCAD.Vector(*map(float, p)) for p in arr]
+    return to_vectors(arr)
 
 
 def polyline_shape(vectors: Sequence) -> Part.Shape:
