@@ -17,7 +17,7 @@ import struct
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional, Sequence, Union
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 
@@ -39,6 +39,11 @@ _UNIT_TO_MM = {
 # What the c3d library raises on malformed headers and parameters (it checks with assert).
 _PARSE_ERRORS = (struct.error, AssertionError, ValueError, KeyError, IndexError,
                  AttributeError, TypeError, UnicodeDecodeError, OverflowError)
+
+MIN_DURATION_S = 0.1
+"""Default of read_c3d's min_duration_s: shorter pen-down runs are dropped (seconds)."""
+MIN_LENGTH_MM = 5.0
+"""Default of read_c3d's min_length_mm: shorter pen-down runs are dropped (mm)."""
 
 _C3D_MAGIC = 0x50
 _BLOCK = 512
@@ -334,8 +339,8 @@ def _check_options(min_duration_s: float, min_length_mm: float, filter_mm: Optio
 def read_c3d(
     path: Union[str, Path],
     markers: Optional[Sequence[str]] = None,
-    min_duration_s: float = 0.1,
-    min_length_mm: float = 5.0,
+    min_duration_s: float = MIN_DURATION_S,
+    min_length_mm: float = MIN_LENGTH_MM,
     filter_mm: Optional[float] = None,
     smooth: int = 0,
 ) -> C3DStrokes:
@@ -408,19 +413,13 @@ def read_c3d(
     )
 
 
-def read_c3d_strokes(
-    path: Union[str, Path],
-    markers: Optional[list[str]] = None,
-    min_duration_s: float = 0.1,
-    min_length_mm: float = 5.0,
-    filter_mm: Optional[float] = None,
-    smooth: int = 0,
-) -> list[np.ndarray]:
-    """Strokes of a C3D file as (n, 3) float arrays in mm; see `read_c3d` for the options.
+def read_c3d_strokes(path: Union[str, Path], **options: Any) -> list[np.ndarray]:
+    """Strokes of a C3D file as (n, 3) float arrays in mm; the options are `read_c3d`'s
+    (markers, min_duration_s, min_length_mm, filter_mm, smooth), defined there only.
 
     Raises StrokeFileError when no stroke is left, naming why the runs were dropped.
     """
-    result = read_c3d(path, markers, min_duration_s, min_length_mm, filter_mm, smooth)
+    result = read_c3d(path, **options)
     if not result.strokes:
         why = "; ".join(f"{d.marker} frames {d.frames[0]}-{d.frames[1]} {d.reason}"
                         for d in result.dropped[:5])
