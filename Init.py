@@ -8,6 +8,7 @@
 
 
 def _progsurf_register():
+    import importlib.util
     import os
     import sys
 
@@ -25,11 +26,14 @@ def _progsurf_register():
         return
     root = os.path.normpath(roots[0])
 
-    # PyPI-only packages (c3d) live in the checkout's venv, built on this same Python.
-    version = "python{}.{}".format(*sys.version_info[:2])
-    site = os.path.join(root, ".venv", "lib", version, "site-packages")
-    if os.path.isdir(site) and site not in sys.path:
-        sys.path.append(site)
+    # PyPI-only packages (c3d) live in the checkout's venv, built on this same Python. The helper
+    # is loaded by its path: importing the ProgSurf package here would fix, at start-up, which
+    # checkout every later `import ProgSurf` gets.
+    spec = importlib.util.spec_from_file_location(
+        "progsurf_venv_site", os.path.join(root, "ProgSurf", "venv_site.py"))
+    venv_site = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(venv_site)
+    venv_site.add_venv_site_packages(root)
 
     # Appended, not inserted: tests/ must never shadow a real module.
     tests = os.path.join(root, "tests")

@@ -17,6 +17,7 @@ from typing import Optional, Sequence
 
 from .core.errors import FitError, ProgSurfError
 from .core.types import Tolerances
+from .io.c3d import MIN_DURATION_S, MIN_LENGTH_MM
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -47,9 +48,9 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--markers", metavar="LABEL[,LABEL]",
                    help=".c3d inputs: marker labels to draw with (default: the most-moving marker)")
     b.add_argument("--min-duration", type=float, metavar="S",
-                   help=".c3d inputs: drop pen-down runs shorter than this (default 0.1 s)")
+                   help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_DURATION_S:g} s)")
     b.add_argument("--min-length", type=float, metavar="MM",
-                   help=".c3d inputs: drop pen-down runs shorter than this (default 5 mm)")
+                   help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_LENGTH_MM:g} mm)")
     b.add_argument("--smooth", type=int, default=0, metavar="N",
                    help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
@@ -73,10 +74,9 @@ def _check_args(args) -> Tolerances:
 def _use_checkout_venv() -> None:
     """PyPI-only packages (c3d) live in the checkout's .venv, made by install.sh on this same
     Python: make them importable when the command runs under /usr/bin/python3 (as Init.py does)."""
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    site = os.path.join(root, ".venv", "lib", "python{}.{}".format(*sys.version_info[:2]), "site-packages")
-    if os.path.isdir(site) and site not in sys.path:
-        sys.path.append(site)
+    from .venv_site import add_venv_site_packages
+
+    add_venv_site_packages(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def _read(paths: Sequence[str], c3d_options: Optional[dict] = None) -> list:
