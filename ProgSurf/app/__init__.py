@@ -5,6 +5,7 @@ the make_* functions attach the view providers of ProgSurf.gui (as Draft's draft
 
   stroke_object   the Stroke feature: a polyline from points, a sketch chain or edges
   surface_object  the progressive Surface feature: pipeline.build + the cad adapter
+  proxy           what both features' proxies share: properties, restore, the saved state
   extract         sketches / edges / wires -> ordered 3D point lists
   make            the make_* scripting API (one call per command)
   importer        FreeCAD import module for stroke files (open / insert)
