@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from ProgSurf import cad
-from ProgSurf.cad import shell as cad_shell
+from ProgSurf.cad import edges as cad_edges
 from ProgSurf.cad._occ import Part
 from ProgSurf.core.pipeline import build
 from ProgSurf.core.progressive import add_stroke
@@ -46,7 +46,7 @@ def _check_like_a_full_build(incr, full, network, tol):
     """incr, made from an earlier shell, against `full`, made from nothing, of the same network."""
     assert [f.region_id for f in incr.faces] == [f.region_id for f in full.faces]
     edges = network.edges()
-    bound = tol.fit_mm * cad_shell.EDGE_FIT_FRACTION * (1 + 1e-6)
+    bound = tol.fit_mm * cad_edges.EDGE_FIT_FRACTION * (1 + 1e-6)
     for eid, curve in incr.edge_curves.items():       # every edge, refitted or kept, within tolerance
         assert cad.curves.curve_deviation(curve, edges[eid].polyline) <= bound
     shape = incr.shape
@@ -71,15 +71,15 @@ def _smooth_nodes(result, network):
     for e in edges.values():
         by_curve.setdefault(e.curve_id, []).append(e)
     for group in by_curve.values():
-        chain = cad_shell._curve_chain(group)
+        chain = cad_edges.curve_chain(group)
         if chain is None:
             continue
         for (a, ra), (b, rb) in zip(chain, chain[1:]):
-            if cad_shell._kink(a, ra, b, rb):
+            if cad_edges.kinked(a, ra, b, rb):
                 continue
-            la, lb = cad_shell._uv_length(a), cad_shell._uv_length(b)
-            d1a, d2a = cad_shell._end_derivatives(result.edge_curves[a.id], ra, True, 1.0 / la)
-            d1b, d2b = cad_shell._end_derivatives(result.edge_curves[b.id], rb, False, 1.0 / lb)
+            la, lb = cad_edges.uv_length(a), cad_edges.uv_length(b)
+            d1a, d2a = cad_edges.end_derivatives(result.edge_curves[a.id], ra, True, 1.0 / la)
+            d1b, d2b = cad_edges.end_derivatives(result.edge_curves[b.id], rb, False, 1.0 / lb)
             cos = float(d1a @ d1b) / (np.linalg.norm(d1a) * np.linalg.norm(d1b))
             angle = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
             jump = float(np.linalg.norm(d2a - d2b) / max(np.linalg.norm(d2a), np.linalg.norm(d2b), 1e-9))
