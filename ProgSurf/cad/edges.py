@@ -5,18 +5,23 @@ curves. Each network curve (an outer side or an accepted stroke) is fitted ONCE 
 nodes (cad.fit, within EDGE_FIT_FRACTION of the fit tolerance) and cut at them into its edges, so
 that two faces meeting at an edge bound themselves by the very same curve (cad.patch_faces).
 
-Incremental (fit_edges(cache=)): a curve whose edges and nodes are all unchanged is taken from an
-earlier build's cache; of a curve a later stroke split or pulled, only the runs of changed edges are fitted again,
+Incremental (fit_edges(cache=)): a curve whose edges and nodes are all unchanged is taken from the
+cache; of a curve a later stroke split or pulled, only the runs of changed edges are fitted again,
 joined C2 (C0 at a kink) to the kept pieces, their refinement seeded with the knots of the edge
 they replace. Each piece is keyed by the exact content it was fitted from (_edge_key).
 """
 from __future__ import annotations
 
 import hashlib
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..core.types import FloatArray, Tolerances
 from .curves import fit_points, fit_polyline, unit_segment
+
+if TYPE_CHECKING:
+    from .shell import ShellCache
 
 EDGE_FIT_FRACTION = 0.5
 """Edges are fitted within this fraction of tol.fit_mm (at polyline vertices and chord midpoints): a
@@ -183,55 +188,56 @@ def content_digest(*arrays) -> bytes:
     return h.digest()
 
 
-def _edge_key(e, nodes: dict, digests: dict | None = None) -> tuple:
+def _edge_key(e, nodes: dict, digests: dict, lookup) -> tuple:
     """What the fitted piece of one edge depends on: its id, ends, polyline, pre-image ends and
-    the node points it must pass through. digests: {id(polyline): (polyline, digest, last key)}
-    kept between builds, so that an unchanged (immutable, shared) polyline is not hashed again,
-    nor the key of an unchanged edge view between unchanged node points made again."""
+    the node points it must pass through. digests: this build's ShellCache.digests, which receives
+    the entry of e's polyline; lookup: ShellCache.lookup of the earlier builds, so that an
+    unchanged (immutable, shared) polyline is not hashed again, nor the key of an unchanged edge
+    view between unchanged node points made again."""
     poly = e.polyline
-    entry = digests.get(id(poly)) if digests is not None else None
+    entry = digests.get(id(poly)) or lookup("digests", id(poly))
     ends = (tuple(nodes[e.node0].tolist()), tuple(nodes[e.node1].tolist()))
     if entry is None or entry[0] is not poly:
         entry = (poly, content_digest(poly.points, poly.params), None)
     elif entry[2] is not None and entry[2][0] is e and entry[2][1] == ends:
+        digests[id(poly)] = entry
         return entry[2][2]          # the same (immutable) edge view between the same node points
     key = (e.id, e.node0, e.node1, entry[1], content_digest(e.uv0, e.uv1, nodes[e.node0], nodes[e.node1]))
-    if digests is not None:
-        digests[id(poly)] = (poly, entry[1], (e, ends, key))
+    digests[id(poly)] = (poly, entry[1], (e, ends, key))
     return key
 
 
-DIGESTS = ("digests",)
-"""Cache key of {id(polyline): (polyline, content digest, (edge view, its node points, its edge
-key) or None)} (see _edge_key)."""
+def _nothing(kind: str, key) -> None:
+    """The lookup of an empty cache."""
+    return None
 
 
-def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict | None = None,
-              keep: dict | None = None) -> dict:
+def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats: dict | None = None,
+              keep: "ShellCache | None" = None) -> dict:
     """edge_id -> cubic Part.BSplineCurve on [0,1] (edge param 0 at node0). Each network curve (an
     outer side or an accepted stroke) is fitted once through all its nodes, then cut at them; a curve
     whose edges do not form one chain is fitted edge by edge.
 
-    cache : {("curve", curve id, tolerance): {edge key: piece}} from an earlier build: a curve whose
-            edges and nodes are all unchanged is taken from it; of a curve that a later stroke
-            split or pulled, only the changed edges are fitted again (_refit_changed).
+    cache : the ShellCache of an earlier build (its `curves` and `digests`): a curve whose edges and
+            nodes are all unchanged is taken from it; of a curve that a later stroke split or
+            pulled, only the changed edges are fitted again (_refit_changed).
     stats : receives "curves": (reused, fitted or partly refitted).
-    keep  : receives the entries of this build (reused and new), for the next one."""
+    keep  : a ShellCache whose `curves` and `digests` receive this build's entries (reused and
+            new), for the next one."""
     edges = network.edges()
     nodes = node_points(edges)
     by_curve: dict = {}
     for e in edges.values():
         by_curve.setdefault(e.curve_id, []).append(e)
     tol_mm = tol.fit_mm * EDGE_FIT_FRACTION
-    cache = {} if cache is None else cache
-    keep = {} if keep is None else keep
-    curves = {}
+    lookup = _nothing if cache is None else cache.lookup
+    curves, fitted_curves = {}, {}
     reused = fitted = 0
-    digests = dict(cache.get(DIGESTS, {}))
+    digests: dict = {}          # every live polyline's entry (each edge's is made or renewed below)
     for cid, group in by_curve.items():
-        ckey = ("curve", cid, tol_mm)
-        keys = {e.id: _edge_key(e, nodes, digests) for e in group}
-        before = cache.get(ckey, {})
+        ckey = (cid, tol_mm)
+        keys = {e.id: _edge_key(e, nodes, digests, lookup) for e in group}
+        before = lookup("curves", ckey) or {}
         kept = {eid: before[k] for eid, k in keys.items() if k in before}
         if len(kept) == len(group):
             piece = kept
@@ -247,10 +253,11 @@ def fit_edges(network, tol: Tolerances, cache: dict | None = None, stats: dict |
                                                                end=nodes[e.node1], name=f"edge {e.id} (curve {cid})")
                          for e in group}
             fitted += 1
-        keep[ckey] = {keys[eid]: c for eid, c in piece.items()}
+        fitted_curves[ckey] = {keys[eid]: c for eid, c in piece.items()}
         curves.update(piece)
-    live = {id(e.polyline) for e in edges.values()}
-    keep[DIGESTS] = {k: v for k, v in digests.items() if k in live}
+    if keep is not None:
+        keep.curves.update(fitted_curves)
+        keep.digests = digests
     if stats is not None:
         stats["curves"] = (reused, fitted)
     return curves

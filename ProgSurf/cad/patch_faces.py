@@ -9,11 +9,13 @@ In G1 mode each face is then replaced by its flux-corrected surface on the same 
 issue 9).
 
 Incremental: a face whose side pieces, curve objects, corners and shape are unchanged is taken
-from the earlier builds' cache (cad.shell).
+from the earlier builds' ShellCache (faces, regions; g1_faces, g1_shapes in G1 mode).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..core.errors import FitError
@@ -21,6 +23,9 @@ from ..core.types import FloatArray
 from .curves import constant_curve, join_side
 from .edges import content_digest
 from .faces import coons_surface
+
+if TYPE_CHECKING:
+    from .shell import ShellCache
 
 
 @dataclass(frozen=True)
@@ -97,13 +102,13 @@ def make_face(surface, what: str = "face"):
     return face
 
 
-def coons_faces(network, curves: dict, cache: dict, keep: dict) -> tuple[list, tuple]:
+def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") -> tuple[list, tuple]:
     """The G0 face of each region (network.regions() order): the exact Coons B-spline surface of
     its four sides, each side the join of its edge curves (curves: edge id -> piece, fit_edges).
 
-    cache : the earlier builds' cache: a face whose inputs are unchanged is taken from it (the same
-            region view on the same curve objects, or the same side pieces, curves and corners).
-    keep  : receives this build's face entries (reused and new).
+    cache : the earlier builds' ShellCache: a face whose inputs are unchanged is taken from it
+            (`regions` for the same region view on the same curve objects, else `faces` by content).
+    keep  : receives this build's `faces` and `regions` (reused and new).
     Returns ([FaceInfo], (reused, built))."""
     infos = []
     reused = built = 0
@@ -111,21 +116,21 @@ def coons_faces(network, curves: dict, cache: dict, keep: dict) -> tuple[list, t
         used = tuple(curves[eid] for side in region.sides for eid, _ in side.edges)
         # the same region view (the network keeps it while the region is unchanged) on the same
         # curve objects makes the same face: no need to cut the sides again
-        fast = cache.get(("region", region.id))
+        fast = cache.lookup("regions", region.id)
         if (fast is not None and fast[0] is region and len(fast[1]) == len(used)
                 and all(a is b for a, b in zip(fast[1], used))):
             info, key = fast[2], fast[3]
             reused += 1
-            keep[key] = info
-            keep[("region", region.id)] = fast
+            keep.faces[key] = info
+            keep.regions[region.id] = fast
             infos.append(info)
             continue
         pieces = tuple(_side_pieces(side, curves) for side in region.sides)
         corners = np.asarray(region.corners_xyz, dtype=float)
         # the face depends on its side pieces and on the very curve objects they cut
-        key = ("face", region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
+        key = (region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
                content_digest(corners), bool(region.triangle))
-        info = cache.get(key)
+        info = cache.lookup("faces", key)
         if info is None:
             bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
                                         for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
@@ -135,26 +140,27 @@ def coons_faces(network, curves: dict, cache: dict, keep: dict) -> tuple[list, t
             built += 1
         else:
             reused += 1
-        keep[key] = info
-        keep[("region", region.id)] = (region, used, info, key)
+        keep.faces[key] = info
+        keep.regions[region.id] = (region, used, info, key)
         infos.append(info)
     return infos, (reused, built)
 
 
-def g1_faces(network, g0_infos: tuple, cache: dict, keep: dict) -> tuple[list, frozenset]:
+def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache") -> tuple[list, frozenset]:
     """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries (cad.g1), and the
-    ids of the seams kept sharp. G1 faces are taken from `cache` where their inputs are unchanged;
-    this build's are put in `keep`."""
+    ids of the seams kept sharp. G1 surfaces (`g1_faces`) and their faces (`g1_shapes`) are taken
+    from `cache` where their inputs are unchanged; this build's are put in `keep`."""
     from .g1 import smooth_faces
 
-    smooth, sharp = smooth_faces(g0_infos, network, cache=cache, keep=keep)
+    smooth, sharp = smooth_faces(g0_infos, network, lookup=lambda key: cache.lookup("g1_faces", key),
+                                 keep=keep.g1_faces)
     infos = []
     for info, g in zip(g0_infos, smooth):
-        key = ("g1face", id(g))          # the G1Face is kept in the entry, so its id stays its own
-        entry = cache.get(key)
+        key = id(g)          # the G1Face is kept in the entry, so its id stays its own
+        entry = cache.lookup("g1_shapes", key)
         if entry is None or entry[0] is not g:
             face = make_face(g.surface, f"G1 face for region {info.region_id} (use continuity G0)")
             entry = (g, FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
-        keep[key] = entry
+        keep.g1_shapes[key] = entry
         infos.append(entry[1])
     return infos, sharp

@@ -12,9 +12,24 @@ faces and their neighbours into it (sew_into, issue 8).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from ._occ import Part
 
 _PROBE = (0.4142135623730951, 0.7320508075688772)
+
+
+@dataclass(frozen=True)
+class SewnShell:
+    """A sewn shell of all the faces given, which a later build may sew new faces into (sew_into).
+
+    shape    : the Part.Shell
+    vertices : {id(face given to the sewing): the points (rounded to 1e-6 mm) of its sewn face's
+               vertices}, to find the neighbours of a face taken out
+    The sewn face of each face given is the sewn-face map kept beside it (ShellCache.sewn)."""
+
+    shape: object
+    vertices: dict
 
 
 def probe_point(face) -> tuple:
@@ -66,25 +81,25 @@ def sew(faces: list, previous: dict | None = None) -> tuple:
     return shape, out or {}
 
 
-def sew_into(faces: list, last: tuple | None) -> tuple | None:
+def sew_into(faces: list, last: SewnShell | None, sewn_of: dict) -> tuple[SewnShell, dict] | None:
     """Sew new faces into the last sewn shell locally, so that the cost follows the faces a stroke
     changed, not the size of the shell (issue 8).
 
-    last : the SEWN_SHELL entry of the previous build (cad.shell). The faces of the last shell that
-    are gone (replaced by new ones) are taken out; the new faces are sewn together with the kept
-    faces that touched the gone ones (their neighbours, sharing an edge or a vertex), and those
-    neighbours are replaced in the shell by their re-sewn selves. Every other face, and the edges
-    and vertices it shares, stays as it was. Returns (shell, SEWN_SHELL entry), or None where only a
-    full sewing will do (no last shell, nothing taken out, or the result is not one shell of all
-    the faces)."""
-    if not last:
+    last    : the SewnShell of the previous build; sewn_of: its {id(face given): sewn face}.
+    The faces of the last shell that are gone (replaced by new ones) are taken out; the new faces
+    are sewn together with the kept faces that touched the gone ones (their neighbours, sharing an
+    edge or a vertex), and those neighbours are replaced in the shell by their re-sewn selves.
+    Every other face, and the edges and vertices it shares, stays as it was. Returns (SewnShell,
+    {id(face): its sewn face}) of all the faces, or None where only a full sewing will do (no last
+    shell, nothing taken out, or the result is not one shell of all the faces)."""
+    if last is None:
         return None
-    shape, sewn_of, verts = last
+    shape, verts = last.shape, last.vertices
     ids = {id(f) for f in faces}
     new = [f for f in faces if id(f) not in sewn_of]
     gone = [k for k in sewn_of if k not in ids]
     if not gone:
-        return (shape, last) if not new else None
+        return (last, sewn_of) if not new else None
     if shape.ShapeType != "Shell":
         return None
     touched = frozenset().union(*(verts[k] for k in gone))
@@ -106,4 +121,4 @@ def sew_into(faces: list, last: tuple | None) -> tuple | None:
     now.update({id(f): found[id(f)] for f in new})
     nverts = {k: verts[k] for k in now if k in verts}
     nverts.update({id(f): vertex_keys(now[id(f)]) for f in near + new})
-    return out, (out, now, nverts)
+    return SewnShell(out, nverts), now

@@ -11,22 +11,79 @@ Incremental (build_shell(previous=)): after one more stroke, curves whose edges 
 reused; of a curve the stroke split or pulled, only the changed edges are fitted again, joined C2
 to the kept pieces; faces whose sides are unchanged are reused; new faces are sewn with the kept
 faces around them and put into the last shell in place of the faces they replace (sew_into), so
-the sewing follows the change, not the size of the shell. The result meets the same tolerances as a build from nothing, but is not pole for
+the sewing follows the change, not the size of the shell. What is reused travels in the result as
+one ShellCache. The result meets the same tolerances as a build from nothing, but is not pole for
 pole the same: it depends on the order of the edits.
 """
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from ..core.errors import InvalidOptionError
 from ..core.types import Tolerances
 from .edges import fit_edges
 from .patch_faces import coons_faces, g1_faces
-from .sewing import sew, sew_into, vertex_keys
+from .sewing import SewnShell, sew, sew_into, vertex_keys
 
 CONTINUITIES = ("G0", "G1")
 """G0: the paper's Coons sub-patches as they are; G1: tangent-continuous seams (issue 9, cad.g1)."""
+
+
+@dataclass
+class ShellCache:
+    """What one build_shell made that a later build (previous=) may reuse, keyed by the exact content
+    or the very objects it was made from. Each field holds this build's entries only (those it
+    reused and those it made); the entries of the build before are kept one generation deep in
+    `older`. Read through `lookup`, which looks in both generations."""
+
+    curves: dict = field(default_factory=dict)
+    """(curve id, edge fit tolerance in mm) -> {edge key: fitted piece, a Part.BSplineCurve on
+    [0, 1]} (cad.edges.fit_edges). The edge key is everything the piece depends on (ids, ends,
+    digests of its polyline, pre-image ends and node points). Kept: every curve of this build's
+    network, reused or fitted."""
+    digests: dict = field(default_factory=dict)
+    """id(polyline) -> (polyline, its content digest, (edge view, its node points, its edge key) or
+    None), so that an unchanged polyline is not hashed again (cad.edges). Kept: the polylines of
+    this build's network only."""
+    regions: dict = field(default_factory=dict)
+    """region id -> (region view, the curve objects on its sides, its FaceInfo, its `faces` key): the
+    same region view on the same curve objects gives the same face without cutting its sides.
+    Kept: every region of this build's network."""
+    faces: dict = field(default_factory=dict)
+    """(region id, side pieces, ids of the curve objects they cut, corner digest, triangle) -> the
+    region's G0 FaceInfo (cad.patch_faces.coons_faces). Kept: the faces of this build's regions."""
+    g1_faces: dict = field(default_factory=dict)
+    """G1 mode: ("g1", what the face reads) -> G1Face, the flux-corrected surface (cad.g1.smooth_faces).
+    Kept: the G1 faces of this build; empty in G0 mode."""
+    g1_shapes: dict = field(default_factory=dict)
+    """G1 mode: id(G1Face) -> (that G1Face, its FaceInfo with the OCC face); the entry keeps the
+    G1Face alive, so its id stays its own. Kept: as g1_faces."""
+    sewn: dict = field(default_factory=dict)
+    """id(face given to the sewing) -> its face in the sewn shell: kept faces are given to the next
+    sewing pre-sewn (cad.sewing.sew). Kept: the faces of this build's shell. It is also the
+    sewn-face map of `sewn_shell`, held once, here (sewn_shell holds the shell and its vertices)."""
+    sewn_shell: SewnShell | None = None
+    """The sewn shell of this build and its faces' vertex points, what the next build sews its new
+    faces into (cad.sewing.sew_into); None where the sewing did not give one shell of faces that
+    could be told apart. Kept: this build's shell only; `older`'s is never read (only the last
+    shell is edited)."""
+    older: ShellCache | None = None
+    """The cache of the build before (its own `older` dropped): an undo, or any edit that returns to
+    the strokes of two builds ago, finds its curves and faces there and gets the very same shell
+    back, not a refit of it. Kept: one generation (the next build drops this one's `older`)."""
+
+    def lookup(self, kind: str, key):
+        """The entry `key` of the field named `kind` (curves, digests, regions, faces, g1_faces,
+        g1_shapes, sewn): this generation's, else the older one's; None if neither has it. A curve's
+        pieces are those of both generations, the newer winning where both have an edge key."""
+        here = getattr(self, kind).get(key)
+        if self.older is None:
+            return here
+        there = getattr(self.older, kind).get(key)
+        if isinstance(here, dict) and isinstance(there, dict):
+            return {**there, **here}
+        return there if here is None else here
 
 
 @dataclass(frozen=True)
@@ -40,8 +97,9 @@ class ShellResult:
     continuity  : "G0" (exact Coons faces) or "G1" (cad.g1: flux-corrected faces, same boundaries)
     sharp_edges : ids of interior edges kept sharp in G1 mode (kinked strokes); empty in G0
     g0_faces    : in G1 mode, the G0 FaceInfos the G1 faces were made from (same order); else ()
-    cache       : what a later build_shell(..., previous=this) may reuse: fitted curves and G0
-                  faces keyed by the exact content (polylines, nodes, tolerance) they were made from
+    cache       : what a later build_shell(..., previous=this) may reuse (ShellCache): fitted
+                  curves and faces keyed by the exact content (polylines, nodes, tolerance) they
+                  were made from, the sewn shell, and the same of the build before
     reused      : {"curves": (reused, fitted), "faces": (reused, built), "sewn": (faces given
                   pre-sewn, faces), "local_sew": True if sewn into the previous shell locally
                   (sew_into), False if the whole shell was sewn} of this build
@@ -54,36 +112,8 @@ class ShellResult:
     continuity: str = "G0"
     sharp_edges: frozenset = frozenset()
     g0_faces: tuple = ()
-    cache: dict = field(default_factory=dict, repr=False, compare=False)
+    cache: ShellCache = field(default_factory=ShellCache, repr=False, compare=False)
     reused: dict = field(default_factory=dict, compare=False)
-
-
-HISTORY = ("history",)
-"""Cache key of the build before the previous one (its cache, one generation deep): an undo, or
-any edit that returns to the strokes of two builds ago, finds its curves and faces there and gets
-the very same shell back, not a refit of it."""
-SEWN = ("sewn",)
-"""Cache key of {id(face given to sew): its face in the sewn shell}."""
-SEWN_SHELL = ("sewn shell",)
-"""Cache key of the last sewn shell: (shape, {id(face given): its sewn face}, {id(face given):
-the rounded points of its sewn face's vertices}), what a local sew (sew_into) edits."""
-
-
-def _with_history(cache: dict) -> dict:
-    """One lookup dict of a cache and its HISTORY generation; where both hold a dict-valued entry
-    (curve pieces, sewn faces, digests) the two are merged, the newer winning."""
-    older = cache.get(HISTORY)
-    if not older:
-        return {k: v for k, v in cache.items() if k != HISTORY}
-    out = dict(older)
-    for k, v in cache.items():
-        if k == HISTORY:
-            continue
-        if isinstance(v, dict) and isinstance(out.get(k), dict):
-            out[k] = {**out[k], **v}
-        else:
-            out[k] = v
-    return out
 
 
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
@@ -95,39 +125,38 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     when an edge cannot be fitted within tol.fit_mm or OCC cannot make a face.
 
     previous : an earlier ShellResult of this network (or of one built from the same strokes):
-               curves and G0 faces whose inputs did not change are reused, so that after one
-               more stroke only what it touched is fitted and built again (the shell is re-sewn).
+               curves and faces whose inputs did not change are reused, so that after one more
+               stroke only what it touched is fitted and built again, and sewn into its shell.
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
     t0 = time.perf_counter()
-    last = previous.cache if previous is not None else {}
-    old = _with_history(last)
-    cache: dict = {HISTORY: {k: v for k, v in last.items() if k != HISTORY}}
+    last = previous.cache if previous is not None else ShellCache()
+    cache = ShellCache(older=replace(last, older=None) if previous is not None else None)
     stats: dict = {}
-    curves = fit_edges(network, tol, old, stats, keep=cache)
+    curves = fit_edges(network, tol, last, stats, keep=cache)
     t1 = time.perf_counter()
-    infos, counts_faces = coons_faces(network, curves, old, cache)
+    infos, counts_faces = coons_faces(network, curves, last, cache)
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": counts_faces}
     timings = {"fit_edges": t1 - t0, "faces": t2 - t1}
     g0_faces, sharp = (), frozenset()
     if continuity == "G1":
         g0_faces = tuple(infos)
-        infos, sharp = g1_faces(network, g0_faces, old, cache)
+        infos, sharp = g1_faces(network, g0_faces, last, cache)
         timings["g1"] = time.perf_counter() - t2
     t3 = time.perf_counter()
     faces = [i.face for i in infos]
-    local = sew_into(faces, last.get(SEWN_SHELL))
+    presewn = {id(f): s for f in faces if (s := last.lookup("sewn", id(f))) is not None}
+    local = sew_into(faces, last.sewn_shell, last.sewn)
     if local is not None:
-        shape, cache[SEWN_SHELL] = local
-        cache[SEWN] = local[1][1]
+        cache.sewn_shell, cache.sewn = local
+        shape = cache.sewn_shell.shape
     else:
-        shape, sewn = sew(faces, old.get(SEWN))
-        cache[SEWN] = sewn
-        if sewn and shape.ShapeType == "Shell":
-            cache[SEWN_SHELL] = (shape, sewn, {k: vertex_keys(f) for k, f in sewn.items()})
+        shape, cache.sewn = sew(faces, presewn)
+        if cache.sewn and shape.ShapeType == "Shell":
+            cache.sewn_shell = SewnShell(shape, {k: vertex_keys(f) for k, f in cache.sewn.items()})
     timings["sew"] = time.perf_counter() - t3
-    counts["sewn"] = (sum(1 for f in faces if id(f) in old.get(SEWN, {})), len(faces))
+    counts["sewn"] = (sum(1 for f in faces if id(f) in presewn), len(faces))
     counts["local_sew"] = local is not None
     return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts)

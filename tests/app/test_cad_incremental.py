@@ -172,9 +172,9 @@ def test_g1_faces_far_from_the_new_stroke_are_reused_and_the_same():
     first = cad.build_shell(before.network, before.tol, continuity="G1")
     full = cad.build_shell(after.network, after.tol, continuity="G1")
     incr = cad.build_shell(after.network, after.tol, continuity="G1", previous=first)
-    g1_reused = sum(1 for k in incr.cache if k[0] == "g1" and k in first.cache)
+    g1_reused = sum(1 for k in incr.cache.g1_faces if k in first.cache.g1_faces)
     assert 0 < g1_reused < len(incr.faces)
-    assert len([k for k in incr.cache if k[0] == "g1"]) == len(incr.faces)   # nothing stale is kept
+    assert len(incr.cache.g1_faces) == len(incr.faces)   # nothing stale is kept
     kept = {id(f) for f in first.faces}
     assert sum(1 for f in incr.faces if id(f) in kept) == g1_reused   # reused G1 faces are the same faces
     _check_like_a_full_build(incr, full, after.network, after.tol)
@@ -183,7 +183,7 @@ def test_g1_faces_far_from_the_new_stroke_are_reused_and_the_same():
 def test_going_back_to_the_strokes_before_gives_the_very_same_shell(steps):
     """Undo: after a stroke was added (and its curves partly refitted), a build of the network
     before it, from the newer shell, takes every curve and face from the generation kept in the
-    cache (cad.shell.HISTORY) instead of refitting them: the old shell, face for face."""
+    cache (cad.shell.ShellCache.older) instead of refitting them: the old shell, face for face."""
     before, after = steps
     first = cad.build_shell(before.network, before.tol)
     second = cad.build_shell(after.network, after.tol, previous=first)
@@ -193,3 +193,23 @@ def test_going_back_to_the_strokes_before_gives_the_very_same_shell(steps):
     assert back.shape.Area == pytest.approx(first.shape.Area, rel=1e-12)
     assert back.shape.isValid() and back.shape.ShapeType == "Shell"
     assert len(back.shape.Edges) == len(first.shape.Edges) and _free_edges(back.shape) == _free_edges(first.shape)
+
+
+def test_the_cache_keeps_one_older_generation_and_looks_in_both(steps):
+    """ShellCache: a build keeps the cache of the build before it (one generation, not a chain),
+    and `lookup` finds there what this build no longer holds; the sewn shell's vertex points
+    cover exactly the faces of the one sewn-face map."""
+    before, after = steps
+    first = cad.build_shell(before.network, before.tol)
+    second = cad.build_shell(after.network, after.tol, previous=first)
+    third = cad.build_shell(after.network, after.tol, previous=second)
+    assert first.cache.older is None and second.cache.older is not None
+    assert third.cache.older.older is None and third.cache.older.faces is second.cache.faces
+    gone = [k for k in second.cache.older.faces if k not in second.cache.faces]
+    assert gone                                          # faces the stroke replaced
+    for k in gone:
+        assert second.cache.lookup("faces", k) is first.cache.faces[k]
+        assert third.cache.lookup("faces", k) is None    # two builds back: dropped
+    for build in (first, second, third):
+        assert build.cache.sewn_shell.shape is build.shape
+        assert build.cache.sewn_shell.vertices.keys() == build.cache.sewn.keys()
