@@ -26,7 +26,7 @@ from dataclasses import replace
 import numpy as np
 
 from ProgSurf import cad
-from ProgSurf.cad import shell as cad_shell
+from ProgSurf.cad import edges as cad_edges
 from ProgSurf.core.errors import FitError
 from ProgSurf.core.progressive import add_stroke
 from ProgSurf.core.types import Tolerances
@@ -52,15 +52,15 @@ def fits(old, new, tol: Tolerances) -> bool:
     """True when the adapter can fit every curve the stroke changed (used to keep growth strokes;
     see README: cad.fit cannot pass exactly through two nodes very close on one curve)."""
     edges = new.edges()
-    nodes = cad_shell._node_points(edges)
-    tol_mm = tol.fit_mm * cad_shell.EDGE_FIT_FRACTION
+    nodes = cad_edges.node_points(edges)
+    tol_mm = tol.fit_mm * cad_edges.EDGE_FIT_FRACTION
     changed = _changed_curves(old, new)
     try:
         for cid in changed:
             group = [e for e in edges.values() if e.curve_id == cid]
-            chain = cad_shell._curve_chain(group)
+            chain = cad_edges.curve_chain(group)
             if chain is not None:
-                cad_shell._fit_curve(chain, nodes, tol_mm, cid)
+                cad_edges.fit_curve(chain, nodes, tol_mm, cid)
             else:
                 for e in group:
                     cad.curves.fit_polyline(e.polyline, tol_mm, start=nodes[e.node0], end=nodes[e.node1])

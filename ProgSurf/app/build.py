@@ -16,6 +16,7 @@ import Part
 
 from ProgSurf.cad import analysis as cad_analysis
 from ProgSurf.cad import export as cad_export
+from ProgSurf.cad import sewing as cad_sewing
 from ProgSurf.cad import shell as cad_shell
 from ProgSurf.core import pipeline
 from ProgSurf.core.errors import FitError, ProgSurfError
@@ -80,10 +81,10 @@ def nearest_on_faces(infos: Sequence, points: np.ndarray) -> tuple[np.ndarray, n
 def _region_of_faces(shape: Part.Shape, infos: Sequence) -> tuple:
     """Match the (sewn) Shape's faces to the cad FaceInfos: sewing keeps each face's surface, so
     a point of it tells them apart (the nearest, for a shape whose surfaces were rebuilt)."""
-    points = np.array([cad_shell.probe_point(i.face) for i in infos]).reshape(-1, 3)
+    points = np.array([cad_sewing.probe_point(i.face) for i in infos]).reshape(-1, 3)
     out = []
     for face in shape.Faces:
-        p = np.array(cad_shell.probe_point(face))
+        p = np.array(cad_sewing.probe_point(face))
         out.append(int(infos[int(np.argmin(np.linalg.norm(points - p, axis=1)))].region_id))
     return tuple(out)
 

@@ -382,18 +382,19 @@ def _node_value(seams: _Seams, nid: int) -> tuple:
 
 
 def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
-                 cache: dict | None = None, keep: dict | None = None) -> tuple[tuple, frozenset]:
+                 lookup=None, keep: dict | None = None) -> tuple[tuple, frozenset]:
     """G1Face per G0 FaceInfo (same order), and the ids of the seams kept sharp (kinked strokes).
 
-    cache : {key: G1Face} of an earlier call; a face whose inputs (its G0 face and neighbours, the
-            same objects; the normals of its nodes, the same values) are unchanged is taken from it.
-    keep  : receives this call's entries (reused and new), for the next call."""
+    lookup : key -> the G1Face an earlier call made for that key, or None; a face whose inputs (its
+             G0 face and neighbours, the same objects; the normals of its nodes, the same values)
+             are unchanged is taken from it.
+    keep   : receives this call's {key: G1Face} (reused and new), for the next call."""
     sharp = g1.sharp_edges(network, angle_deg)
     seams = _Seams(infos, network, sharp)
     out = []
     for info in infos:
         key = ("g1", _face_key(info, network, seams))
-        face = (cache or {}).get(key)
+        face = lookup(key) if lookup is not None else None
         if face is None:
             face = smooth_face(info, network, seams)
         if keep is not None:

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from ProgSurf import cad
-from ProgSurf.cad import shell as cad_shell
+from ProgSurf.cad import edges as cad_edges
 from ProgSurf.cad._occ import Part
 from ProgSurf.core.pipeline import build
 from ProgSurf.core.progressive import add_stroke
@@ -46,7 +46,7 @@ def _check_like_a_full_build(incr, full, network, tol):
     """incr, made from an earlier shell, against `full`, made from nothing, of the same network."""
     assert [f.region_id for f in incr.faces] == [f.region_id for f in full.faces]
     edges = network.edges()
-    bound = tol.fit_mm * cad_shell.EDGE_FIT_FRACTION * (1 + 1e-6)
+    bound = tol.fit_mm * cad_edges.EDGE_FIT_FRACTION * (1 + 1e-6)
     for eid, curve in incr.edge_curves.items():       # every edge, refitted or kept, within tolerance
         assert cad.curves.curve_deviation(curve, edges[eid].polyline) <= bound
     shape = incr.shape
@@ -71,15 +71,15 @@ def _smooth_nodes(result, network):
     for e in edges.values():
         by_curve.setdefault(e.curve_id, []).append(e)
     for group in by_curve.values():
-        chain = cad_shell._curve_chain(group)
+        chain = cad_edges.curve_chain(group)
         if chain is None:
             continue
         for (a, ra), (b, rb) in zip(chain, chain[1:]):
-            if cad_shell._kink(a, ra, b, rb):
+            if cad_edges.kinked(a, ra, b, rb):
                 continue
-            la, lb = cad_shell._uv_length(a), cad_shell._uv_length(b)
-            d1a, d2a = cad_shell._end_derivatives(result.edge_curves[a.id], ra, True, 1.0 / la)
-            d1b, d2b = cad_shell._end_derivatives(result.edge_curves[b.id], rb, False, 1.0 / lb)
+            la, lb = cad_edges.uv_length(a), cad_edges.uv_length(b)
+            d1a, d2a = cad_edges.end_derivatives(result.edge_curves[a.id], ra, True, 1.0 / la)
+            d1b, d2b = cad_edges.end_derivatives(result.edge_curves[b.id], rb, False, 1.0 / lb)
             cos = float(d1a @ d1b) / (np.linalg.norm(d1a) * np.linalg.norm(d1b))
             angle = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
             jump = float(np.linalg.norm(d2a - d2b) / max(np.linalg.norm(d2a), np.linalg.norm(d2b), 1e-9))
@@ -172,9 +172,9 @@ def test_g1_faces_far_from_the_new_stroke_are_reused_and_the_same():
     first = cad.build_shell(before.network, before.tol, continuity="G1")
     full = cad.build_shell(after.network, after.tol, continuity="G1")
     incr = cad.build_shell(after.network, after.tol, continuity="G1", previous=first)
-    g1_reused = sum(1 for k in incr.cache if k[0] == "g1" and k in first.cache)
+    g1_reused = sum(1 for k in incr.cache.g1_faces if k in first.cache.g1_faces)
     assert 0 < g1_reused < len(incr.faces)
-    assert len([k for k in incr.cache if k[0] == "g1"]) == len(incr.faces)   # nothing stale is kept
+    assert len(incr.cache.g1_faces) == len(incr.faces)   # nothing stale is kept
     kept = {id(f) for f in first.faces}
     assert sum(1 for f in incr.faces if id(f) in kept) == g1_reused   # reused G1 faces are the same faces
     _check_like_a_full_build(incr, full, after.network, after.tol)
@@ -183,7 +183,7 @@ def test_g1_faces_far_from_the_new_stroke_are_reused_and_the_same():
 def test_going_back_to_the_strokes_before_gives_the_very_same_shell(steps):
     """Undo: after a stroke was added (and its curves partly refitted), a build of the network
     before it, from the newer shell, takes every curve and face from the generation kept in the
-    cache (cad.shell.HISTORY) instead of refitting them: the old shell, face for face."""
+    cache (cad.shell.ShellCache.older) instead of refitting them: the old shell, face for face."""
     before, after = steps
     first = cad.build_shell(before.network, before.tol)
     second = cad.build_shell(after.network, after.tol, previous=first)
@@ -193,3 +193,23 @@ def test_going_back_to_the_strokes_before_gives_the_very_same_shell(steps):
     assert back.shape.Area == pytest.approx(first.shape.Area, rel=1e-12)
     assert back.shape.isValid() and back.shape.ShapeType == "Shell"
     assert len(back.shape.Edges) == len(first.shape.Edges) and _free_edges(back.shape) == _free_edges(first.shape)
+
+
+def test_the_cache_keeps_one_older_generation_and_looks_in_both(steps):
+    """ShellCache: a build keeps the cache of the build before it (one generation, not a chain),
+    and `lookup` finds there what this build no longer holds; the sewn shell's vertex points
+    cover exactly the faces of the one sewn-face map."""
+    before, after = steps
+    first = cad.build_shell(before.network, before.tol)
+    second = cad.build_shell(after.network, after.tol, previous=first)
+    third = cad.build_shell(after.network, after.tol, previous=second)
+    assert first.cache.older is None and second.cache.older is not None
+    assert third.cache.older.older is None and third.cache.older.faces is second.cache.faces
+    gone = [k for k in second.cache.older.faces if k not in second.cache.faces]
+    assert gone                                          # faces the stroke replaced
+    for k in gone:
+        assert second.cache.lookup("faces", k) is first.cache.faces[k]
+        assert third.cache.lookup("faces", k) is None    # two builds back: dropped
+    for build in (first, second, third):
+        assert build.cache.sewn_shell.shape is build.shape
+        assert build.cache.sewn_shell.vertices.keys() == build.cache.sewn.keys()

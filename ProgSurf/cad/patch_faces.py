@@ -1,0 +1,166 @@
+"""The faces of the shell: one exact Coons B-spline face per region, and its G1 replacement.
+
+Qin & Wright section 3.3, second half: each sub-patch of the pre-image network becomes a B-spline
+face. Each region side is the join of its shared edge curves (cad.edges), cut where the side's
+junction nodes lie (SidePiece), and the face is the exact Coons B-spline surface of its four sides
+(faces.coons_surface, Eq. 1), bounded by the surface's iso-curves (make_face). Neighbouring faces
+therefore have the same boundary geometry (to ~1e-12 mm, round-off of the pole arithmetic).
+In G1 mode each face is then replaced by its flux-corrected surface on the same boundaries (cad.g1,
+issue 9).
+
+Incremental: a face whose side pieces, curve objects, corners and shape are unchanged is taken
+from the earlier builds' ShellCache (faces, regions; g1_faces, g1_shapes in G1 mode).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..core.errors import FitError
+from ..core.types import FloatArray
+from .curves import constant_curve, join_side
+from .edges import content_digest
+from .faces import coons_surface
+
+if TYPE_CHECKING:
+    from .shell import ShellCache
+
+
+@dataclass(frozen=True)
+class SidePiece:
+    """One network edge on one side of a face: it covers side parameters [a, b] of that side."""
+
+    edge_id: int
+    reversed: bool
+    a: float
+    b: float
+
+
+@dataclass(frozen=True)
+class FaceInfo:
+    """One face of the shell and where its network edges lie in its (s, r) parameter square.
+
+    sides : (bottom, right, top, left), each a tuple of SidePiece (empty for a degenerate side)
+    """
+
+    region_id: int
+    surface: object
+    face: object
+    sides: tuple
+    triangle: bool
+
+    @property
+    def poles(self) -> tuple[int, int, int, int]:
+        """(nu, nv, udegree, vdegree) of the B-spline surface."""
+        s = self.surface
+        return s.NbUPoles, s.NbVPoles, s.UDegree, s.VDegree
+
+
+def side_parameter(side_points: FloatArray, side_params: FloatArray, point: FloatArray) -> float:
+    """Parameter of the side polyline vertex nearest to `point` (a junction node)."""
+    i = int(np.argmin(np.linalg.norm(side_points - point, axis=1)))
+    return float(side_params[i])
+
+
+def _side_pieces(side, curves: dict) -> tuple:
+    pts, prm = side.polyline.points, side.polyline.params
+    breaks = [0.0]
+    for k, (eid, rev) in enumerate(side.edges):
+        if k == len(side.edges) - 1:
+            breaks.append(1.0)
+            break
+        c = curves[eid]
+        end = np.array(tuple(c.StartPoint if rev else c.EndPoint))
+        breaks.append(side_parameter(pts, prm, end))
+    if any(b1 <= b0 for b0, b1 in zip(breaks, breaks[1:])):
+        raise FitError(f"side junction parameters {breaks} are not increasing; the network side "
+                       "polyline does not pass through its edges' nodes")
+    return tuple(SidePiece(int(eid), bool(rev), breaks[k], breaks[k + 1])
+                 for k, (eid, rev) in enumerate(side.edges))
+
+
+def _side_curve(pieces: tuple, curves: dict, corner: FloatArray):
+    if not pieces:
+        return constant_curve(corner)
+    return join_side([curves[p.edge_id] for p in pieces], [p.reversed for p in pieces],
+                     [pieces[0].a] + [p.b for p in pieces])
+
+
+def make_face(surface, what: str = "face"):
+    """The face of the whole surface, bounded by its four iso-curves (a degenerate side gives
+    OCC's degenerated edge). Where a neighbour shares only part of a longer side, the sewing
+    (cad.sewing.sew) cuts that edge at the neighbour's vertex, so the faces still meet vertex to
+    vertex. (Faces bounded by pre-split iso-edges came out "self-intersecting" from OCC and needed
+    a ShapeFix pass that cost ten times the rest of the face.)"""
+    face = surface.toShape()
+    if not face.isValid():
+        face.fix(1e-9, 1e-9, 1e-7)
+        if not face.isValid():
+            raise FitError(f"OCC made an invalid {what}; report this sketch")
+    return face
+
+
+def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") -> tuple[list, tuple]:
+    """The G0 face of each region (network.regions() order): the exact Coons B-spline surface of
+    its four sides, each side the join of its edge curves (curves: edge id -> piece, fit_edges).
+
+    cache : the earlier builds' ShellCache: a face whose inputs are unchanged is taken from it
+            (`regions` for the same region view on the same curve objects, else `faces` by content).
+    keep  : receives this build's `faces` and `regions` (reused and new).
+    Returns ([FaceInfo], (reused, built))."""
+    infos = []
+    reused = built = 0
+    for region in network.regions():
+        used = tuple(curves[eid] for side in region.sides for eid, _ in side.edges)
+        # the same region view (the network keeps it while the region is unchanged) on the same
+        # curve objects makes the same face: no need to cut the sides again
+        fast = cache.lookup("regions", region.id)
+        if (fast is not None and fast[0] is region and len(fast[1]) == len(used)
+                and all(a is b for a, b in zip(fast[1], used))):
+            info, key = fast[2], fast[3]
+            reused += 1
+            keep.faces[key] = info
+            keep.regions[region.id] = fast
+            infos.append(info)
+            continue
+        pieces = tuple(_side_pieces(side, curves) for side in region.sides)
+        corners = np.asarray(region.corners_xyz, dtype=float)
+        # the face depends on its side pieces and on the very curve objects they cut
+        key = (region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
+               content_digest(corners), bool(region.triangle))
+        info = cache.lookup("faces", key)
+        if info is None:
+            bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
+                                        for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
+            surface = coons_surface(bottom, right, top, left)
+            face = make_face(surface, f"face for region {region.id}")
+            info = FaceInfo(region.id, surface, face, pieces, bool(region.triangle))
+            built += 1
+        else:
+            reused += 1
+        keep.faces[key] = info
+        keep.regions[region.id] = (region, used, info, key)
+        infos.append(info)
+    return infos, (reused, built)
+
+
+def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache") -> tuple[list, frozenset]:
+    """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries (cad.g1), and the
+    ids of the seams kept sharp. G1 surfaces (`g1_faces`) and their faces (`g1_shapes`) are taken
+    from `cache` where their inputs are unchanged; this build's are put in `keep`."""
+    from .g1 import smooth_faces
+
+    smooth, sharp = smooth_faces(g0_infos, network, lookup=lambda key: cache.lookup("g1_faces", key),
+                                 keep=keep.g1_faces)
+    infos = []
+    for info, g in zip(g0_infos, smooth):
+        key = id(g)          # the G1Face is kept in the entry, so its id stays its own
+        entry = cache.lookup("g1_shapes", key)
+        if entry is None or entry[0] is not g:
+            face = make_face(g.surface, f"G1 face for region {info.region_id} (use continuity G0)")
+            entry = (g, FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
+        keep.g1_shapes[key] = entry
+        infos.append(entry[1])
+    return infos, sharp
