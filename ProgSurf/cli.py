@@ -139,9 +139,9 @@ def run_build(args, out=sys.stdout) -> dict:
     strokes = _read(args.inputs, _c3d_options(args))
     timings["read"] = time.perf_counter() - clock
 
-    from .core.pipeline import build
+    from .core.pipeline import build_network
 
-    result = build(strokes, boundary=args.boundary_count, tol=tol)
+    result = build_network(strokes, boundary=args.boundary_count, tol=tol)
     timings.update(result.timings_s)
 
     from . import cad

@@ -117,7 +117,7 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
     previous: the `shell` of an earlier Outcome: curves and faces whose inputs are unchanged are
     reused (cad.build_shell), so a recompute after one stroke changed refits only what it touched.
     previous_result: the `result` of an earlier Outcome: when the strokes only grew by interior
-    strokes, only the new ones are added to (a copy of) its network (pipeline.build).
+    strokes, only the new ones are added to (a copy of) its network (pipeline.build_network).
 
     boundary: None (classify automatically), or the count of leading boundary strokes.
     candidates: with boundary None, the indices of the strokes the classification chooses from
@@ -126,7 +126,7 @@ def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin
     """
     if continuity not in cad_shell.CONTINUITIES:
         raise ProgSurfError(f"Continuity {continuity!r} is not one of {', '.join(cad_shell.CONTINUITIES)}")
-    result = pipeline.build([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
+    result = pipeline.build_network([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
                             tol=tol, candidates=candidates, previous=previous_result)
     shell = cad_shell.build_shell(result.network, tol, continuity=continuity, previous=previous)
     shape = shell.shape

@@ -3,7 +3,7 @@
 Inputs are links to Stroke features: ``Boundary`` (the boundary strokes, or with
 ``AutoBoundary`` every stroke to classify, paper section 2 "identify boundary curves") and
 ``Interior`` (the interior strokes in drawing order: later strokes win, step 4-10).
-``execute`` gathers the strokes' points, runs ``ProgSurf.core.pipeline.build`` and turns the
+``execute`` gathers the strokes' points, runs ``ProgSurf.core.pipeline.build_network`` and turns the
 patch network into a shell of B-spline faces with ``ProgSurf.cad``.
 
 A rejected stroke never breaks the surface: it is marked on the stroke and in ``StrokeStatus``

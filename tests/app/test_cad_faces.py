@@ -194,10 +194,10 @@ def test_distances_by_numpy_projection_equal_occ_evaluation():
 
     from ProgSurf import cad
     from ProgSurf.cad import analysis
-    from ProgSurf.core.pipeline import build
+    from ProgSurf.core.pipeline import build_network
     from ProgSurf.io import read_strokes
 
-    r = build(read_strokes(Path(__file__).resolve().parents[2] / "examples" / "clean4.xyz"))
+    r = build_network(read_strokes(Path(__file__).resolve().parents[2] / "examples" / "clean4.xyz"))
     shell = cad.build_shell(r.network, r.tol)
     pts = np.vstack([rec.points for rec in r.records if rec.points is not None])
     pts = np.vstack([pts, pts[::3] + np.random.default_rng(0).normal(scale=2.0, size=pts[::3].shape)])

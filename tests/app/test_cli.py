@@ -127,7 +127,7 @@ def test_skin_writes_one_exchange_surface_on_the_patches(tmp_path):
     import FreeCAD  # noqa: F401  (before Part)
     import Part
 
-    from ProgSurf.core.pipeline import build
+    from ProgSurf.core.pipeline import build_network
     from ProgSurf.io import read_strokes
 
     skin = Part.read(str(skin_step))
@@ -135,7 +135,7 @@ def test_skin_writes_one_exchange_surface_on_the_patches(tmp_path):
     surface = skin.Faces[0].Surface
     assert (surface.NbUPoles, surface.NbVPoles) == (data["skin"]["u_poles"], data["skin"]["v_poles"])
     # the same strokes through the core give the network the skin was made from
-    net = build(read_strokes(example)).network
+    net = build_network(read_strokes(example)).network
     g = np.linspace(0.0, 1.0, 23)
     uv = np.array([(a, b) for a in g for b in g])
     dist = [skin.distToShape(Part.Vertex(FreeCAD.Vector(*map(float, p))))[0]

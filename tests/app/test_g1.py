@@ -11,7 +11,7 @@ import pytest
 
 from benchmarks.surfaces import random_sketch
 from ProgSurf import cad
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.io import read_strokes
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,7 +24,7 @@ EXAMPLES = {"fig9_sections.xyz": 4, "fig11_general.xyz": 4, "clean4.xyz": None, 
 class Case:
     def __init__(self, name: str, strokes: list, boundary, tmp: Path):
         self.name = name
-        self.result = build(strokes, boundary=boundary)
+        self.result = build_network(strokes, boundary=boundary)
         net = self.result.network
         self.g0 = cad.build_shell(net, self.result.tol, continuity="G0")
         self.g1 = cad.build_shell(net, self.result.tol, continuity="G1")
