@@ -101,6 +101,8 @@ def test_bad_input_exits_2_with_one_line(tmp_path, case):
 
 def test_c3d_input_takes_marker_labels(tmp_path):
     """A motion-capture file builds end to end with --markers; an unknown label is bad input."""
+    pytest.importorskip("c3d", reason="the c3d package is not installed: .venv/bin/pip install c3d "
+                                      "(./install.sh does)")
     c3d = ROOT / "examples" / "sketch_mocap.c3d"
     report = tmp_path / "mocap.json"
     ok = run("build", str(c3d), "-o", str(tmp_path / "mocap.step"), "--markers", "pen",
