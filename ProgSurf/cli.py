@@ -6,6 +6,10 @@
 
 Strokes are taken in file order, then in the order the files are given. Exit 0 on success, 2 on bad
 input (one line on stderr, no traceback), 1 when OCC fails on valid input.
+
+This module parses the command, reads the strokes, and writes the files and the summary: the build
+and its measurements are the document's own (ProgSurf.app.build.build_and_measure, whose
+build_report makes the JSON report), so the two give the same figures for the same strokes.
 """
 from __future__ import annotations
 
@@ -132,40 +136,27 @@ def _write_fcstd(path: str, strokes: list, build_result, shape, boundary_count: 
 
 
 def run_build(args, out=sys.stdout) -> dict:
-    """Everything `build` does; returns the report dict. Raises ProgSurfError on bad input."""
+    """Everything `build` does; returns the report dict. Raises ProgSurfError on bad input.
+
+    Parses and reads the strokes, builds and measures them with the document's own orchestration
+    (app.build.build_and_measure), then writes the files, the report and the summary."""
     tol = _check_args(args)
     timings: dict = {}
     clock = time.perf_counter()
     strokes = _read(args.inputs, _c3d_options(args))
     timings["read"] = time.perf_counter() - clock
 
-    from .core.pipeline import build
-
-    result = build(strokes, boundary=args.boundary_count, tol=tol)
-    timings.update(result.timings_s)
-
     from . import cad
-    from .cad import analysis
-    from .io.report import continuity_section, make_report, write_report
+    from .app.build import build_and_measure, build_report
+    from .io.report import write_report
 
-    clock = time.perf_counter()
-    shell = cad.build_shell(result.network, result.tol, continuity=args.continuity)
-    timings["fit"] = time.perf_counter() - clock
-    shape = shell.shape
+    outcome = build_and_measure(strokes, args.boundary_count, tol, continuity=args.continuity,
+                                skin=args.skin, report=True)
+    timings.update(outcome.timings_s)
+    result, shape = outcome.result, outcome.shell.shape
     if len(shape.Shells) != 1 or not shape.isValid():
         raise FitError(f"OCC made {len(shape.Shells)} shells (valid={shape.isValid()}) instead of one valid "
                        "shell; report this sketch")
-
-    clock = time.perf_counter()
-    seams = analysis.seam_stats(shell)
-    fit_dev = analysis.fit_deviation(shell, result.network)
-    stroke_dev = {r.index: float(analysis.point_distances(shell, r.points).max())
-                  for r in result.accepted if r.points is not None and len(r.points)}
-    g1_stats = analysis.g1_seam_stats(shell, result.network)
-    g0_stats = analysis.g1_seam_stats(analysis.g0_view(shell), result.network) if args.continuity == "G1" else ()
-    shell_info = analysis.shell_seam_gaps(shape)
-    shell_info.update({"valid": bool(shape.isValid()), "area_mm2": float(shape.Area)})
-    timings["analysis"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
     outputs = {"step": args.output}
@@ -173,14 +164,11 @@ def run_build(args, out=sys.stdout) -> dict:
     if args.iges:
         cad.export_iges(shape, args.iges)
         outputs["iges"] = args.iges
-    extra = {}
-    if args.skin:
-        skin, skin_dev = cad.skin_surface(result.network, result.tol.fit_mm)
+    if outcome.skin is not None:
+        skin, skin_dev = outcome.skin
         skin_path = os.path.splitext(args.output)[0] + "_skin.step"
         cad.export_step(skin.toShape(), skin_path)
         outputs["skin_step"] = skin_path
-        extra["skin"] = {"u_poles": skin.NbUPoles, "v_poles": skin.NbVPoles,
-                         "deviation_max_mm": skin_dev}
         if skin_dev > result.tol.fit_mm:
             print(f"warning: the skinned exchange surface lies up to {skin_dev:.3g} mm from the patches "
                   f"(fit tolerance {result.tol.fit_mm:.3g} mm)", file=sys.stderr)
@@ -199,19 +187,7 @@ def run_build(args, out=sys.stdout) -> dict:
         outputs["fcstd"] = args.fcstd
         timings["fcstd"] = time.perf_counter() - clock
 
-    report = make_report(
-        faces=len(shape.Faces), records=result.records,
-        seams=[{"edge": s.edge_id, "regions": [s.region_a, s.region_b], "gap_max_mm": s.gap_max_mm,
-                "angle_max_deg": s.angle_max_deg, "angle_median_deg": s.angle_median_deg} for s in seams],
-        stroke_deviation_mm=stroke_dev, fit_deviation_mm=fit_dev,
-        poles_per_face=[{"region": f.region_id, "u_poles": f.poles[0], "v_poles": f.poles[1],
-                         "u_degree": f.poles[2], "v_degree": f.poles[3], "triangle": f.triangle}
-                        for f in shell.faces],
-        timings_s=timings, inputs=list(args.inputs), outputs=outputs,
-        tolerances={"filter_mm": result.tol.filter_mm, "snap_mm": result.tol.snap_mm,
-                    "fit_mm": result.tol.fit_mm},
-        shell=shell_info, extra=dict(extra, **continuity_section(
-            args.continuity, g1_stats, g0_stats, shell.timings_s.get("g1"))))
+    report = build_report(outcome, inputs=args.inputs, outputs=outputs, timings_s=timings)
     if args.report:
         write_report(report, args.report)
     if not args.quiet:

@@ -4,7 +4,7 @@ Peers: Surface::Filling (OCC GeomPlate; boundary edges + interior curves as unbo
 Surface::GeomFillSurface with FillType Coons (boundary only, k = 0). Every peer edge is a
 Part.BSplineCurve interpolating the same sampled points ProgSurf gets, in a Part::Feature.
 Wall time covers points -> result shape for both: edge interpolation + recompute for the peers,
-pipeline.build + cad.build_shell for ProgSurf.
+pipeline.build_network + cad.build_shell for ProgSurf.
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import numpy as np
 
 from ProgSurf import cad
 from ProgSurf.cad._occ import FreeCAD, Part, Vector
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 
 from .surfaces import BENCH_TOL, SIDE, SURFACES, Height, boundary_strokes, section_curves
 
@@ -69,9 +69,9 @@ def run_coons(boundary: list) -> dict:
 
 
 def run_progsurf(boundary: list, interior: list) -> dict:
-    """pipeline.build (boundary = the first four strokes) + cad.build_shell."""
+    """pipeline.build_network (boundary = the first four strokes) + cad.build_shell."""
     t0 = time.perf_counter()
-    res = build(boundary + interior, boundary=4, tol=BENCH_TOL)
+    res = build_network(boundary + interior, boundary=4, tol=BENCH_TOL)
     shell = cad.build_shell(res.network, res.tol)
     wall = time.perf_counter() - t0
     rejected = [r.index for r in res.records if r.status != "accepted"]

@@ -20,10 +20,11 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 def _collect(checkout: Path, real: bool) -> dict:
-    sys.path.insert(0, str(checkout))
     sys.path.append("/usr/lib/freecad-python3/lib")
     import numpy as np
     import FreeCAD  # noqa: F401  (before Part)
+    # after FreeCAD: importing it puts the user Mod folders (where install.sh links a checkout) first
+    sys.path.insert(0, str(checkout))
     from ProgSurf.core import pipeline
     from ProgSurf import cad
     from ProgSurf.io import read_strokes

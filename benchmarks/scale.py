@@ -2,7 +2,7 @@
 
 Run in a fresh process by benchmarks/run.py so that the peak resident memory (ru_maxrss) is this
 sketch's alone. Two builds:
-- pipeline : ProgSurf.core.pipeline.build of boundary + N strokes (the core), then cad.build_shell,
+- pipeline : ProgSurf.core.pipeline.build_network of boundary + N strokes (the core), then cad.build_shell,
              STEP export and a fresh-process read-back, if the adapter can fit the network;
 - fit-checked : the same strokes added one by one, dropping every accepted stroke whose changed
              curves the adapter cannot fit (see README, cad.fit), so that the STEP numbers exist even
@@ -18,7 +18,7 @@ import numpy as np
 
 from ProgSurf import cad
 from ProgSurf.core.errors import ProgSurfError
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.core.progressive import add_stroke
 
 from .latency import fits
@@ -67,17 +67,17 @@ def _export(net, folder: str, name: str) -> dict:
 
 
 def _add_last(z, strokes: list) -> dict:
-    """The last stroke added the way the document adds it on recompute: pipeline.build with the
+    """The last stroke added the way the document adds it on recompute: pipeline.build_network with the
     earlier result (only the new stroke is added to a copy of its network) and cad.build_shell
     with the earlier shell. The earlier build is not timed."""
     boundary = boundary_strokes(z)
-    before = build(boundary + strokes[:-1], boundary=4, tol=BENCH_TOL)
+    before = build_network(boundary + strokes[:-1], boundary=4, tol=BENCH_TOL)
     try:
         before_shell = cad.build_shell(before.network, BENCH_TOL)
     except ProgSurfError as err:
         return {"ok": False, "error": " ".join(str(err).split())[:200]}
     t0 = time.perf_counter()
-    after = build(boundary + strokes, boundary=4, tol=BENCH_TOL, previous=before)
+    after = build_network(boundary + strokes, boundary=4, tol=BENCH_TOL, previous=before)
     t1 = time.perf_counter()
     try:
         shell = cad.build_shell(after.network, BENCH_TOL, previous=before_shell)
@@ -99,7 +99,7 @@ def run_scale(n_strokes: int, folder: str, seed: int = 7, surface: str = "saddle
     result: dict = {"strokes": n_strokes, "surface": surface}
 
     t0 = time.perf_counter()
-    res = build(boundary_strokes(z) + strokes, boundary=4, tol=BENCH_TOL)
+    res = build_network(boundary_strokes(z) + strokes, boundary=4, tol=BENCH_TOL)
     core_s = time.perf_counter() - t0
     pipe = {"core_s": core_s, "regions": len(res.network), "accepted": len(res.accepted) - 4,
             "rejected": len(res.rejected)}

@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 
 from ProgSurf import cad  # noqa: E402
 from ProgSurf.core.errors import ProgSurfError  # noqa: E402
-from ProgSurf.core.pipeline import build  # noqa: E402
+from ProgSurf.core.pipeline import build_network  # noqa: E402
 from benchmarks.surfaces import random_sketch  # noqa: E402
 from test_g1 import MAX_DEG, MEDIAN_DEG  # noqa: E402
 
@@ -42,7 +42,7 @@ def main(argv=None) -> int:
             strokes = [s + rng.normal(0.0, noise, s.shape) for s in random_sketch(seed)]
             total += 1
             try:
-                r = build(strokes, boundary=4)
+                r = build_network(strokes, boundary=4)
                 t = time.perf_counter()
                 g1 = cad.build_shell(r.network, r.tol, continuity="G1")
                 t1 = time.perf_counter() - t

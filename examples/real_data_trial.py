@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from ProgSurf.core.errors import ProgSurfError  # noqa: E402
-from ProgSurf.core.pipeline import build  # noqa: E402
+from ProgSurf.core.pipeline import build_network  # noqa: E402
 from ProgSurf.io import read_strokes, write_point_list  # noqa: E402
 
 DATA = ROOT.parent / "shared" / "data"
@@ -48,7 +48,7 @@ def trial(strokes: list, boundary) -> dict:
     """Build once; a dict with 'ok', and either the outcome or the error."""
     clock = time.perf_counter()
     try:
-        res = build(strokes, boundary=boundary)
+        res = build_network(strokes, boundary=boundary)
     except ProgSurfError as exc:
         return {"ok": False, "error": f"{type(exc).__name__}: {' '.join(str(exc).split())}",
                 "seconds": time.perf_counter() - clock}

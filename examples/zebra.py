@@ -25,7 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ProgSurf import cad  # noqa: E402
-from ProgSurf.core.pipeline import build  # noqa: E402
+from ProgSurf.core.pipeline import build_network  # noqa: E402
 from ProgSurf.io import read_strokes  # noqa: E402
 
 DIRECTION = np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])
@@ -68,7 +68,7 @@ def main(argv=None) -> int:
     p.add_argument("strokes", nargs="?", default=str(ROOT / "examples" / "clean4.xyz"))
     p.add_argument("-o", "--output", default=str(ROOT / "docs" / "g1_zebra.png"))
     args = p.parse_args(argv)
-    result = build(read_strokes(args.strokes))
+    result = build_network(read_strokes(args.strokes))
     g1 = cad.build_shell(result.network, result.tol, continuity="G1")
     g0 = cad.analysis.g0_view(g1)
     fig, axes = plt.subplots(1, 2, figsize=(15, 6.8))

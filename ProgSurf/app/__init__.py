@@ -4,8 +4,10 @@ Headless-safe: nothing here imports FreeCADGui or PySide at module level. When t
 the make_* functions attach the view providers of ProgSurf.gui (as Draft's draftmake does).
 
   stroke_object   the Stroke feature: a polyline from points, a sketch chain or edges
-  surface_object  the progressive Surface feature: pipeline.build + the cad adapter
+  surface_object  the progressive Surface feature, recomputed through build
   proxy           what both features' proxies share: properties, restore, the saved state
+  build           build_and_measure: pipeline + cad shell + analysis, the one orchestration of
+                  the document and the command line (cli.run_build); its report and face colours
   extract         sketches / edges / wires -> ordered 3D point lists
   make            the make_* scripting API (one call per command)
   importer        FreeCAD import module for stroke files (open / insert)

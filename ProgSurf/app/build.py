@@ -1,18 +1,29 @@
-"""One recompute of the progressive surface: strokes -> pipeline -> cad shell -> analysis.
+"""Build and measure the progressive surface: the one orchestration of the command line and the document.
 
-Glue between ProgSurf.core.pipeline (Qin & Wright section 3, the patch network) and ProgSurf.cad
-(B-spline faces, analysis, export). The Surface feature calls :func:`build_surface`; the Analyse
-and Export commands call :func:`face_values` and :func:`export_shape`.
+    strokes -> core.pipeline.build_network   the patch network (Qin & Wright section 3)
+            -> cad.build_shell               B-spline faces sewn into one shell
+            -> cad.analysis                  seam gaps and angles, fit and stroke deviations
+            [-> cad.export.skin_surface]     the exchange surface (section 3.3), when asked
+
+:func:`build_and_measure` runs these steps for both callers: the Surface feature on recompute
+(app.surface_object) and the command line (cli.run_build, which then exports the files, writes the
+report made by :func:`build_report` and prints its summary). The Analyse and Export commands call
+:func:`face_values` and :func:`export_shape`.
+
+One sample rule for every caller:
+
+- stroke deviation: every point of each accepted stroke (a largest distance is a maximum: samples
+  could only miss it);
+- fit deviation: an n x n grid of each face's parameter square, n = FIT_GRID;
+- seams: SEAM_SAMPLES points along every edge shared by two faces.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Optional, Sequence
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Mapping, Optional, Sequence
 
 import numpy as np
-
-import FreeCAD  # noqa: F401  (FreeCAD before Part)
-import Part
 
 from ProgSurf.cad import analysis as cad_analysis
 from ProgSurf.cad import export as cad_export
@@ -22,8 +33,29 @@ from ProgSurf.core import pipeline
 from ProgSurf.core.errors import FitError, ProgSurfError
 from ProgSurf.core.types import Tolerances
 
-DEVIATION_SAMPLES = 41
-"""Points per accepted stroke at which its distance from the surface is measured."""
+if TYPE_CHECKING:
+    import Part
+
+FIT_GRID = 21
+"""Samples per side of the grid on which a face is compared with its Coons sub-patch."""
+
+SEAM_SAMPLES = 64
+"""Points along a shared edge at which the gap and the normal angle of its two faces are measured."""
+
+
+@dataclass(frozen=True)
+class ReportMeasures:
+    """What only the build report holds (measured when build_and_measure is asked for a report).
+
+    g1_seams : cad.analysis.G1SeamStat per interior seam of the built surface
+    g0_seams : the same on the G0 faces a G1 surface was made from; () for a G0 surface
+    shell    : the sewn shape's own watertightness through its pcurves (cad.analysis.shell_seam_gaps:
+               shared_edges, free_edges, seam_gap_max_mm), and valid, area_mm2
+    """
+
+    g1_seams: tuple
+    g0_seams: tuple
+    shell: dict
 
 
 @dataclass(frozen=True)
@@ -32,11 +64,14 @@ class Analysis:
 
     seam_gap_mm        : largest gap between neighbouring faces along their shared edges
     seam_angle_deg     : largest angle between their normals (G1 defect of the G0 network)
-    stroke_deviation_mm: per input stroke, its largest distance from the surface; -1 if rejected
+    stroke_deviation_mm: per input stroke, the largest distance of its points from the surface;
+                         -1 if not measured (rejected, or without points)
     fit_deviation_mm   : largest distance of a face from its Coons sub-patch
     seams              : the cad layer's SeamStat per shared network edge
     region_of_face     : region id of each face of the Shape, in Shape.Faces order
     faces              : the cad layer's FaceInfo per region (surfaces, for projections)
+    fit_deviation_by_region : region id -> largest distance of its face from its Coons sub-patch
+    report             : ReportMeasures, or None when no report was asked for
     """
 
     seam_gap_mm: float
@@ -46,28 +81,43 @@ class Analysis:
     seams: tuple
     region_of_face: tuple
     faces: tuple = ()
+    fit_deviation_by_region: Mapping = field(default_factory=dict)
+    report: Optional[ReportMeasures] = None
+
+    @property
+    def stroke_deviation_by_index(self) -> dict:
+        """stroke index -> largest distance of its points, for the measured strokes only."""
+        return {i: d for i, d in enumerate(self.stroke_deviation_mm) if d >= 0.0}
 
 
 @dataclass(frozen=True)
 class Outcome:
-    """What one recompute produced: the pipeline's BuildResult, the Shape and its analysis."""
+    """What one build produced.
+
+    result       : the pipeline's BuildResult (network, stroke records, resolved tolerances)
+    shape        : the document's Shape: the sewn shell, or with skin the one skinned face
+    analysis     : its Analysis (always measured on the shell of faces)
+    status_lines : "index role status reason" per stroke, in input order
+    shell        : the cad ShellResult; pass it as `previous` to the next build_and_measure to
+                   reuse what is unchanged
+    skin         : with skin, (the skinned Part.BSplineSurface, its largest distance from the
+                   network in mm); else None
+    timings_s    : seconds per step: the pipeline's stages, "fit" (the shell), "analysis" and,
+                   with skin, "skin"
+    """
 
     result: object
-    shape: Part.Shape
+    shape: "Part.Shape"
     analysis: Analysis
     status_lines: list
     shell: object = None
-    """the cad ShellResult; pass it as `previous` to the next build_surface to reuse what is unchanged"""
+    skin: Optional[tuple] = None
+    timings_s: dict = field(default_factory=dict)
 
 
 def status_line(record) -> str:
     """"index role status reason" for the StrokeStatus property."""
     return f"{record.index} {record.role} {record.status} {record.reason or ''}".rstrip()
-
-
-def _sample(points: np.ndarray, count: int) -> np.ndarray:
-    idx = np.unique(np.linspace(0, len(points) - 1, min(count, len(points))).round().astype(int))
-    return points[idx]
 
 
 def nearest_on_faces(infos: Sequence, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -78,7 +128,7 @@ def nearest_on_faces(infos: Sequence, points: np.ndarray) -> tuple[np.ndarray, n
     return table.min(axis=0), table.argmin(axis=0)
 
 
-def _region_of_faces(shape: Part.Shape, infos: Sequence) -> tuple:
+def _region_of_faces(shape: "Part.Shape", infos: Sequence) -> tuple:
     """Match the (sewn) Shape's faces to the cad FaceInfos: sewing keeps each face's surface, so
     a point of it tells them apart (the nearest, for a shape whose surfaces were rebuilt)."""
     points = np.array([cad_sewing.probe_point(i.face) for i in infos]).reshape(-1, 3)
@@ -89,17 +139,33 @@ def _region_of_faces(shape: Part.Shape, infos: Sequence) -> tuple:
     return tuple(out)
 
 
-def analyse(shape: Part.Shape, shell, result, n_strokes: int) -> Analysis:
-    """Seam gap and angle (cad.analysis.seam_stats), fit and stroke deviations."""
-    seams = tuple(cad_analysis.seam_stats(shell))
-    fit = cad_analysis.fit_deviation(shell, result.network, n=9)
-    deviation = [-1.0] * n_strokes
-    kept = [rec for rec in result.records
+def _measured_strokes(result) -> list:
+    """The stroke records whose deviation is measured: accepted, with points."""
+    return [rec for rec in result.records
             if rec.status == "accepted" and rec.points is not None and len(rec.points)]
-    if kept:      # every stroke's samples in one call: one projection pass per face
-        samples = [_sample(np.asarray(rec.points), DEVIATION_SAMPLES) for rec in kept]
-        d = cad_analysis.point_distances(shell, np.vstack(samples))
-        for rec, part in zip(kept, np.split(d, np.cumsum([len(x) for x in samples])[:-1])):
+
+
+def _report_measures(shell, network) -> ReportMeasures:
+    """G1 seam statistics (and G0 beside G1), and the sewn shape's own checks, for the report."""
+    g1 = tuple(cad_analysis.g1_seam_stats(shell, network))
+    g0 = (tuple(cad_analysis.g1_seam_stats(cad_analysis.g0_view(shell), network))
+          if shell.continuity == "G1" else ())
+    shape = shell.shape
+    info = cad_analysis.shell_seam_gaps(shape)
+    info.update({"valid": bool(shape.isValid()), "area_mm2": float(shape.Area)})
+    return ReportMeasures(g1_seams=g1, g0_seams=g0, shell=info)
+
+
+def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
+    """Seam gap and angle (cad.analysis.seam_stats), fit and stroke deviations of a ShellResult
+    built from `result`'s network, by the module's sample rule; with report, ReportMeasures too."""
+    seams = tuple(cad_analysis.seam_stats(shell, samples=SEAM_SAMPLES))
+    fit = cad_analysis.fit_deviation(shell, result.network, n=FIT_GRID)
+    deviation = [-1.0] * n_strokes
+    kept = _measured_strokes(result)
+    if kept:      # every stroke's points in one call: one projection pass per face
+        d = cad_analysis.point_distances(shell, np.vstack([np.asarray(rec.points) for rec in kept]))
+        for rec, part in zip(kept, np.split(d, np.cumsum([len(rec.points) for rec in kept])[:-1])):
             deviation[rec.index] = float(part.max())
     return Analysis(
         seam_gap_mm=max((s.gap_max_mm for s in seams), default=0.0),
@@ -107,46 +173,92 @@ def analyse(shape: Part.Shape, shell, result, n_strokes: int) -> Analysis:
         stroke_deviation_mm=tuple(deviation),
         fit_deviation_mm=max(fit.values(), default=0.0),
         seams=seams,
-        region_of_face=_region_of_faces(shape, shell.faces),
-        faces=tuple(shell.faces))
+        region_of_face=_region_of_faces(shell.shape, shell.faces),
+        faces=tuple(shell.faces),
+        fit_deviation_by_region=fit,
+        report=_report_measures(shell, result.network) if report else None)
 
 
-def build_surface(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, skin: bool = False,
-                  continuity: str = "G0", previous=None, candidates=None, previous_result=None) -> Outcome:
-    """Run the pipeline and the cad adapter on stroke point lists (each (n, 3)).
-
-    previous: the `shell` of an earlier Outcome: curves and faces whose inputs are unchanged are
-    reused (cad.build_shell), so a recompute after one stroke changed refits only what it touched.
-    previous_result: the `result` of an earlier Outcome: when the strokes only grew by interior
-    strokes, only the new ones are added to (a copy of) its network (pipeline.build).
+def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",
+                      skin: bool = False, previous=None, candidates=None, previous_result=None,
+                      report: bool = False) -> Outcome:
+    """Run the pipeline and the cad adapter on stroke point lists (each (n, 3)) and measure the result.
 
     boundary: None (classify automatically), or the count of leading boundary strokes.
     candidates: with boundary None, the indices of the strokes the classification chooses from
     (the others are interior strokes); None = all.
+    previous: the `shell` of an earlier Outcome: curves and faces whose inputs are unchanged are
+    reused (cad.build_shell), so a recompute after one stroke changed refits only what it touched.
+    previous_result: the `result` of an earlier Outcome: when the strokes only grew by interior
+    strokes, only the new ones are added to (a copy of) its network (pipeline.build_network).
+    skin: also skin the exchange surface across every patch (the Outcome's shape is then that face).
+    report: also measure what only the build report holds (ReportMeasures; about as long again).
     Raises ProgSurfError (bad input, boundary not closed, fit failure) or Part.OCCError.
     """
     if continuity not in cad_shell.CONTINUITIES:
         raise ProgSurfError(f"Continuity {continuity!r} is not one of {', '.join(cad_shell.CONTINUITIES)}")
-    result = pipeline.build([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
-                            tol=tol, candidates=candidates, previous=previous_result)
-    shell = cad_shell.build_shell(result.network, tol, continuity=continuity, previous=previous)
+    result = pipeline.build_network([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
+                                    tol=tol, candidates=candidates, previous=previous_result)
+    timings = dict(result.timings_s)
+    clock = time.perf_counter()
+    shell = cad_shell.build_shell(result.network, result.tol, continuity=continuity, previous=previous)
+    timings["fit"] = time.perf_counter() - clock
     shape = shell.shape
     if shape.isNull() or not shape.Faces:
         raise FitError("the cad adapter returned no face; check the boundary strokes")
-    analysis = analyse(shape, shell, result, len(strokes))
+    clock = time.perf_counter()
+    analysis = measure(shell, result, len(strokes), report=report)
+    timings["analysis"] = time.perf_counter() - clock
+    skinned = None
     if skin:   # the exchange surface (section 3.3): one face skinned across every patch
-        shape = cad_export.skin_surface(result.network, tol.fit_mm)[0].toShape()
+        clock = time.perf_counter()
+        skinned = cad_export.skin_surface(result.network, result.tol.fit_mm)
+        timings["skin"] = time.perf_counter() - clock
+        shape = skinned[0].toShape()
     return Outcome(result=result, shape=shape, analysis=analysis,
                    status_lines=[status_line(r) for r in sorted(result.records,
                                                                  key=lambda r: r.index)],
-                   shell=shell)
+                   shell=shell, skin=skinned, timings_s=timings)
+
+
+def build_report(outcome: Outcome, *, inputs: Sequence[str], outputs: Mapping, timings_s: Mapping) -> dict:
+    """The build report (io.report.make_report) of an Outcome measured with report=True.
+
+    inputs: the stroke files; outputs: kind -> path of every file written; timings_s: the caller's
+    seconds per step (the Outcome's own included)."""
+    from ProgSurf.io.report import continuity_section, make_report
+
+    if outcome.analysis.report is None:
+        raise ProgSurfError("the build was measured without report=True; it has no report figures")
+    shell, result, analysis, measures = outcome.shell, outcome.result, outcome.analysis, outcome.analysis.report
+    extra = {}
+    if outcome.skin is not None:
+        surface, deviation = outcome.skin
+        extra["skin"] = {"u_poles": surface.NbUPoles, "v_poles": surface.NbVPoles,
+                         "deviation_max_mm": deviation}
+    return make_report(
+        faces=len(shell.shape.Faces), records=result.records,
+        seams=[{"edge": s.edge_id, "regions": [s.region_a, s.region_b], "gap_max_mm": s.gap_max_mm,
+                "angle_max_deg": s.angle_max_deg, "angle_median_deg": s.angle_median_deg}
+               for s in analysis.seams],
+        stroke_deviation_mm=analysis.stroke_deviation_by_index,
+        fit_deviation_mm=analysis.fit_deviation_by_region,
+        poles_per_face=[{"region": f.region_id, "u_poles": f.poles[0], "v_poles": f.poles[1],
+                         "u_degree": f.poles[2], "v_degree": f.poles[3], "triangle": f.triangle}
+                        for f in shell.faces],
+        timings_s=timings_s, inputs=list(inputs), outputs=outputs,
+        tolerances={"filter_mm": result.tol.filter_mm, "snap_mm": result.tol.snap_mm,
+                    "fit_mm": result.tol.fit_mm},
+        shell=measures.shell, extra=dict(extra, **continuity_section(
+            shell.continuity, measures.g1_seams, measures.g0_seams, shell.timings_s.get("g1"))))
 
 
 def face_values(surface, mode: str) -> Optional[list]:
     """Per-face values of the surface's last build for colouring, in Shape.Faces order.
 
     mode "Stroke deviation": largest distance of an accepted interior stroke point whose nearest
-    face it is (0 if none); "Seam defect": largest normal angle along the face's seams (degrees).
+    face it is (0 if none; every point, as the stroke deviation); "Seam defect": largest normal
+    angle along the face's seams (degrees).
     None when the surface has no build in memory (recompute it first).
     """
     proxy = surface.Proxy
@@ -162,17 +274,17 @@ def face_values(surface, mode: str) -> Optional[list]:
         return [by_region.get(rid, 0.0) for rid in analysis.region_of_face]
     by_region: dict = {}
     infos = analysis.faces
-    for rec in result.records:   # boundary strokes are trimmed at the corners: not deviations
-        if rec.role != "interior" or rec.status != "accepted" or rec.points is None:
+    for rec in _measured_strokes(result):   # boundary strokes are trimmed at the corners: not deviations
+        if rec.role != "interior":
             continue
-        dist, which = nearest_on_faces(infos, _sample(np.asarray(rec.points), DEVIATION_SAMPLES))
+        dist, which = nearest_on_faces(infos, np.asarray(rec.points))
         for d, k in zip(dist, which):
             rid = infos[k].region_id
             by_region[rid] = max(by_region.get(rid, 0.0), float(d))
     return [by_region.get(rid, 0.0) for rid in analysis.region_of_face]
 
 
-def export_shape(shape: Part.Shape, path: str) -> None:
+def export_shape(shape: "Part.Shape", path: str) -> None:
     """Write STEP (.step/.stp, AP214) or IGES (.iges/.igs) by extension (cad.export)."""
     if shape.isNull():
         raise ProgSurfError("the surface has no shape yet; recompute it before exporting")

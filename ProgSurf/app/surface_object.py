@@ -3,8 +3,9 @@
 Inputs are links to Stroke features: ``Boundary`` (the boundary strokes, or with
 ``AutoBoundary`` every stroke to classify, paper section 2 "identify boundary curves") and
 ``Interior`` (the interior strokes in drawing order: later strokes win, step 4-10).
-``execute`` gathers the strokes' points, runs ``ProgSurf.core.pipeline.build`` and turns the
-patch network into a shell of B-spline faces with ``ProgSurf.cad``.
+``execute`` gathers the strokes' points and runs ``ProgSurf.app.build.build_and_measure``, the
+orchestration the command line runs too: the patch network (``ProgSurf.core.pipeline``), a shell of
+B-spline faces (``ProgSurf.cad``) and its quality numbers, which fill the Result properties.
 
 A rejected stroke never breaks the surface: it is marked on the stroke and in ``StrokeStatus``
 and reported as a warning. If the build fails (a ProgSurfError or an OCC failure), the error is
@@ -117,7 +118,7 @@ class SurfaceProxy(FeatureProxy):
         # for a boundary)
         candidates = list(range(len(obj.Boundary))) if obj.AutoBoundary and obj.Interior else None
         try:
-            outcome = build.build_surface(
+            outcome = build.build_and_measure(
                 [stroke_object.stroke_points(s) for s in strokes], boundary,
                 self.tolerances(obj), skin=obj.Skin, continuity=obj.Continuity,
                 previous=getattr(self, "shell", None), candidates=candidates,

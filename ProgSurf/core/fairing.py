@@ -124,7 +124,7 @@ def _max_curvature(dense: FloatArray) -> float:
     return float((np.arccos(cos) / (0.5 * (length[:-1] + length[1:]))).max())
 
 
-def _corners(points: FloatArray, tol: float = 0.0) -> list[int]:
+def stroke_corners(points: FloatArray, tol: float = 0.0) -> list[int]:
     """Indices of sharp turns (intended corners) in a stroke: the direction turns by more than
     CORNER_DEGREES between chords reaching at least 4 x tol (and one point) to either side, so that
     jitter within the fairing tolerance is not taken for a corner; one index per corner."""
@@ -180,7 +180,7 @@ def fair_stroke(points: FloatArray, tol: float, sag: float, keep_index: bool = F
             original_at.extend(range(n))
         prm = np.linspace(0.0, 1.0, n) if keep_index else _chord_params(pts)
         return pts.copy(), prm
-    cuts = [0] + _corners(pts, tol) + [n - 1]
+    cuts = [0] + stroke_corners(pts, tol) + [n - 1]
     out_pts, out_prm = [pts[:1]], [np.zeros(1)]
     original = [0]                      # where each input point lands in the output
     for a, b in zip(cuts[:-1], cuts[1:]):

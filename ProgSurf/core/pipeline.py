@@ -31,7 +31,7 @@ Progress = Callable[[int, int, str], None]
 
 @dataclass
 class BuildResult:
-    """The outcome of :func:`build`.
+    """The outcome of :func:`build_network`.
 
     network   : the patch network (the surface)
     records   : one StrokeRecord per input stroke, in input order
@@ -104,11 +104,11 @@ def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop
     return old.source == loop.source and all(np.array_equal(a, b) for a, b in zip(old.sides, loop.sides))
 
 
-def build(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
-          tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
-          falloff: str = "linear", candidates: Optional[Sequence[int]] = None,
-          previous: Optional[BuildResult] = None) -> BuildResult:
-    """Build the progressive surface.
+def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
+                  tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
+                  falloff: str = "linear", candidates: Optional[Sequence[int]] = None,
+                  previous: Optional[BuildResult] = None) -> BuildResult:
+    """Build the progressive surface's patch network.
 
     strokes  : (n_i, 3) point arrays in mm, in drawing order
     boundary : None = classify by rays from the centroid; N = the first N strokes; list = indices

@@ -9,7 +9,7 @@ import pytest
 
 from ProgSurf import cad
 from ProgSurf.core.network import OUTER_CURVES
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.io import read_strokes
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -25,7 +25,7 @@ class Built:
         path = ROOT / "examples" / name
         if not path.exists():
             pytest.skip(f"example {name} not written yet (examples/make_paper_examples.py)")
-        self.result = build(read_strokes(path))
+        self.result = build_network(read_strokes(path))
         self.shell = cad.build_shell(self.result.network, self.result.tol)
         self.step = tmp / (path.stem + ".step")
         self.iges = tmp / (path.stem + ".igs")

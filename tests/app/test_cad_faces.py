@@ -186,28 +186,46 @@ def test_fit_with_end_derivatives_meets_them_exactly():
     assert np.abs(basis_matrix(knots, t) @ poles - pts).max() <= 0.01
 
 
+class _OccEvaluated:
+    """A face's surface seen only through OCC's value and getDN: cad.analysis.surface_distances
+    then projects onto it point by point through OCC, not with its numpy evaluation of plain
+    B-splines."""
+
+    def __init__(self, surface):
+        self.surface = surface
+
+    def value(self, u, v):
+        return self.surface.value(u, v)
+
+    def getDN(self, u, v, nu, nv):  # noqa: N802 (OCC's name)
+        return self.surface.getDN(u, v, nu, nv)
+
+
 def test_distances_by_numpy_projection_equal_occ_evaluation():
-    """cad.analysis projects onto ProgSurf's bicubic faces in numpy, all points of a face at once
-    (_project_many); the same clamped Gauss-Newton steps evaluated by OCC (_project) give the same
-    distances from the same starts, on the face and off it."""
+    """cad.analysis projects onto ProgSurf's bicubic faces in numpy, all points of a face at once;
+    the same clamped Gauss-Newton steps evaluated by OCC give the same distances, on the face and
+    off it, and no distance is shorter than OCC's own Extrema finds (distToShape)."""
     from pathlib import Path
+
+    import Part
+    from FreeCAD import Vector
 
     from ProgSurf import cad
     from ProgSurf.cad import analysis
-    from ProgSurf.core.pipeline import build
+    from ProgSurf.core.pipeline import build_network
     from ProgSurf.io import read_strokes
 
-    r = build(read_strokes(Path(__file__).resolve().parents[2] / "examples" / "clean4.xyz"))
+    r = build_network(read_strokes(Path(__file__).resolve().parents[2] / "examples" / "clean4.xyz"))
     shell = cad.build_shell(r.network, r.tol)
     pts = np.vstack([rec.points for rec in r.records if rec.points is not None])
     pts = np.vstack([pts, pts[::3] + np.random.default_rng(0).normal(scale=2.0, size=pts[::3].shape)])
     bounds = (0.0, 1.0, 0.0, 1.0)
     for f in shell.faces:
-        uv, xyz = analysis._grid(f.surface, bounds, 41)
-        starts = uv[np.argmin(np.linalg.norm(xyz[None, :, :] - pts[:, None, :], axis=2), axis=1)]
-        fast = analysis._project_many(f.surface, bounds, pts, starts)
-        slow = np.array([analysis._project(f.surface, bounds, p, s) for p, s in zip(pts, starts)])
+        fast = analysis.surface_distances([(f.surface, bounds)], pts)
+        slow = analysis.surface_distances([(_OccEvaluated(f.surface), bounds)], pts)
         assert np.abs(fast - slow).max() <= 1e-9
+        extrema = np.array([f.face.distToShape(Part.Vertex(Vector(*map(float, p))))[0] for p in pts[::7]])
+        assert (fast[::7] >= extrema - 1e-9).all()
     d = analysis.point_distances(shell, pts)
     # the drawn strokes lie within their fairing (0.31 mm on clean4) of the surface; jittered points not
     assert d[:len(pts) - len(pts[::3])].max() <= 0.5 and d.max() > 1.0

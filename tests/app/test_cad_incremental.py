@@ -13,7 +13,7 @@ import pytest
 from ProgSurf import cad
 from ProgSurf.cad import edges as cad_edges
 from ProgSurf.cad._occ import Part
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.core.progressive import add_stroke
 from ProgSurf.io import read_strokes
 
@@ -29,7 +29,7 @@ class Step:
 def steps():
     """clean4, then clean4 with one more short stroke drawn on its surface near a corner: a user
     adding a stroke to a surface that already has several patches."""
-    result = build(read_strokes(ROOT / "examples" / "clean4.xyz"))
+    result = build_network(read_strokes(ROOT / "examples" / "clean4.xyz"))
     after = result.network.clone()
     uv = np.linspace([0.06, 0.08], [0.2, 0.16], 25)
     stroke = np.asarray(after.evaluate_uv(uv)) + [0.0, 0.0, 0.3]

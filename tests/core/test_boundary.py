@@ -283,11 +283,11 @@ def test_corners_join_the_strokes_without_a_hook():
     (rough4's sides turned by 20-54 degrees in their last segment before)."""
     from pathlib import Path
 
-    from ProgSurf.core.pipeline import build
+    from ProgSurf.core.pipeline import build_network
     from ProgSurf.io import read_strokes
 
     path = Path(__file__).resolve().parents[2] / "examples" / "rough4.xyz"
-    loop = build(read_strokes(path)).boundary
+    loop = build_network(read_strokes(path)).boundary
     for side in loop.sides:
         d = np.diff(side, axis=0)
         n = np.linalg.norm(d, axis=1)

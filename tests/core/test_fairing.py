@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ProgSurf.core.boundary import equalise_uniform
-from ProgSurf.core.fairing import (NOISE_CAP, NOISE_SIGMAS, _corners, fair_stroke, fit_cubic, jitter,
+from ProgSurf.core.fairing import (NOISE_CAP, NOISE_SIGMAS, fair_stroke, fit_cubic, jitter, stroke_corners,
                                    stroke_tolerance)
 from ProgSurf.core.strokes import chord_length
 
@@ -74,11 +74,11 @@ def test_corners_are_found_at_the_fairing_scale_and_kept():
     ell = np.vstack([leg * [1, 0, 0], [40, 0, 0] + leg[1:] * [0, 1, 0]])
     noisy = ell + rng.normal(0.0, 0.1, ell.shape)
     tol = stroke_tolerance(noisy, 0.1, 3.0)
-    assert _corners(noisy, tol) == [40]
+    assert stroke_corners(noisy, tol) == [40]
     faired, _ = fair_stroke(noisy, tol, 0.0025)
     assert np.linalg.norm(faired - noisy[40], axis=1).min() < 1e-9   # the corner point is kept
     straight = np.c_[np.linspace(0, 80, 81), np.zeros(81), np.zeros(81)] + rng.normal(0.0, 0.1, (81, 3))
-    assert _corners(straight, stroke_tolerance(straight, 0.1, 3.0)) == []
+    assert stroke_corners(straight, stroke_tolerance(straight, 0.1, 3.0)) == []
 
 
 def test_equalise_uniform_gives_even_spacing_equal_counts_and_keeps_corners():

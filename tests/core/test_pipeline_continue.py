@@ -1,4 +1,4 @@
-"""pipeline.build(previous=): when a sketch only grew by interior strokes, the earlier network is
+"""pipeline.build_network(previous=): when a sketch only grew by interior strokes, the earlier network is
 continued with the new strokes (what the document does when a designer adds a stroke), and the
 surface is exactly the one built from nothing; any other change builds from nothing. (With the
 boundary strokes named, as the document names them, automatic tolerances come from them alone, so
@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.io import read_strokes
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -32,53 +32,53 @@ def strokes():
 
 
 def test_adding_interior_strokes_continues_the_earlier_network(strokes):
-    full = build(strokes, boundary=4)
+    full = build_network(strokes, boundary=4)
     n = len(full.interior)
     assert n >= 2
     head = len(strokes) - 1                       # all but the last interior stroke
     assert full.interior[-1] == head
-    earlier = build(strokes[:head], boundary=4)
-    later = build(strokes, boundary=4, previous=earlier)
+    earlier = build_network(strokes[:head], boundary=4)
+    later = build_network(strokes, boundary=4, previous=earlier)
     assert later.timings_s["reused strokes"] == head
     assert "reused strokes" not in full.timings_s
     _same_network(later.network, full.network)
     assert [(r.index, r.role, r.status) for r in later.records] == [(r.index, r.role, r.status) for r in full.records]
     # the earlier result is not changed by being continued
-    _same_network(earlier.network, build(strokes[:head], boundary=4).network)
+    _same_network(earlier.network, build_network(strokes[:head], boundary=4).network)
 
 
 def test_a_changed_earlier_stroke_builds_from_nothing(strokes):
-    earlier = build(strokes[:-1], boundary=4)
+    earlier = build_network(strokes[:-1], boundary=4)
     moved = [np.array(s, dtype=float) for s in strokes]
     moved[-2] = moved[-2] + [0.0, 0.0, 0.5]
-    later = build(moved, boundary=4, previous=earlier)
+    later = build_network(moved, boundary=4, previous=earlier)
     assert "reused strokes" not in later.timings_s
-    _same_network(later.network, build(moved, boundary=4).network)
+    _same_network(later.network, build_network(moved, boundary=4).network)
 
 
 def test_named_candidates_continue_too_and_automatic_classification_rebuilds(strokes):
-    earlier = build(strokes[:-1], candidates=[0, 1, 2, 3])
-    assert build(strokes, candidates=[0, 1, 2, 3], previous=earlier).timings_s["reused strokes"] == len(strokes) - 1
+    earlier = build_network(strokes[:-1], candidates=[0, 1, 2, 3])
+    assert build_network(strokes, candidates=[0, 1, 2, 3], previous=earlier).timings_s["reused strokes"] == len(strokes) - 1
     # without named boundary strokes the automatic tolerances follow every stroke: a new one
     # changes them, and the surface is built from nothing
-    earlier = build(strokes[:-1])
-    assert "reused strokes" not in build(strokes, previous=earlier).timings_s
+    earlier = build_network(strokes[:-1])
+    assert "reused strokes" not in build_network(strokes, previous=earlier).timings_s
 
 
 def test_other_tolerances_build_from_nothing(strokes):
     from dataclasses import replace
 
-    earlier = build(strokes[:-1], boundary=4)
-    later = build(strokes, boundary=4, tol=replace(earlier.tol, fit_mm=earlier.tol.fit_mm * 2), previous=earlier)
+    earlier = build_network(strokes[:-1], boundary=4)
+    later = build_network(strokes, boundary=4, tol=replace(earlier.tol, fit_mm=earlier.tol.fit_mm * 2), previous=earlier)
     assert "reused strokes" not in later.timings_s
 
 
 def test_the_boundary_loop_is_kept_when_its_named_strokes_are_unchanged(strokes):
-    earlier = build(strokes[:-1], boundary=4)
-    later = build(strokes, boundary=4, previous=earlier)
+    earlier = build_network(strokes[:-1], boundary=4)
+    later = build_network(strokes, boundary=4, previous=earlier)
     assert later.boundary is earlier.boundary          # not closed and faired again
     moved = [np.array(s, dtype=float) for s in strokes]
     moved[0] = moved[0] + [0.0, 0.0, 0.5]               # a boundary stroke moved: closed again
-    again = build(moved, boundary=4, previous=earlier)
+    again = build_network(moved, boundary=4, previous=earlier)
     assert again.boundary is not earlier.boundary and "reused strokes" not in again.timings_s
-    _same_network(again.network, build(moved, boundary=4).network)
+    _same_network(again.network, build_network(moved, boundary=4).network)

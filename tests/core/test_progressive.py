@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 from benchmarks.surfaces import random_sketch
 from ProgSurf.core.network import OUTER_CURVES, PatchNetwork
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.core.preimage import polygon_area
 from ProgSurf.core.progressive import add_stroke
 from ProgSurf.core.types import Tolerances
@@ -79,17 +79,17 @@ def state(net: PatchNetwork):
 # ------------------------------------------------------------------ the paper's examples
 def test_fig9_two_sections_give_two_then_three_patches_through_both_strokes():
     strokes = read_strokes(EXAMPLES / "fig9_sections.xyz")
-    r = build(strokes, boundary=4)
+    r = build_network(strokes, boundary=4)
     assert [x.status for x in r.records[4:]] == ["accepted", "accepted"]
     assert len(r.network) == 3
-    assert len(build(strokes[:5], boundary=4).network) == 2
+    assert len(build_network(strokes[:5], boundary=4).network) == 2
     for rec in r.records[4:]:
         assert stroke_deviation(r.network, rec) < 1e-9       # the surface passes through the stroke
     check_invariants(r.network)
 
 
 def test_fig10_five_sided_open_corner_and_free_stroke_give_two_patches():
-    r = build(read_strokes(EXAMPLES / "fig10_five_sided.xyz"))
+    r = build_network(read_strokes(EXAMPLES / "fig10_five_sided.xyz"))
     roles = [x.role for x in r.records]
     assert roles == ["boundary"] * 5 + ["interior"]
     rec = r.records[5]
@@ -99,7 +99,7 @@ def test_fig10_five_sided_open_corner_and_free_stroke_give_two_patches():
 
 
 def test_fig11_preimage_line_and_pull_give_four_quads():
-    r = build(read_strokes(EXAMPLES / "fig11_general.xyz"), boundary=4)
+    r = build_network(read_strokes(EXAMPLES / "fig11_general.xyz"), boundary=4)
     first, second = r.records[4], r.records[5]
     assert first.status == second.status == "accepted"
     # Faired boundary sides are parameterised by arc length, not by point index: on this side
@@ -223,7 +223,7 @@ def test_random_sketch_12_three_strokes_near_one_point_meet_at_one_node():
     strokes = random_sketch(12)
     assert len(strokes) == 7
     for k in range(5, 8):                  # the invariants after every interior stroke
-        r = build(strokes[:k], boundary=4)
+        r = build_network(strokes[:k], boundary=4)
         rec = r.records[-1]
         assert rec.status == "accepted", rec.reason
         check_invariants(r.network, rec, r.tol.snap_mm)

@@ -13,7 +13,7 @@ import pytest
 
 from ProgSurf.core.boundary import make_boundary
 from ProgSurf.core.errors import OpenBoundaryError, ProgSurfError
-from ProgSurf.core.pipeline import build
+from ProgSurf.core.pipeline import build_network
 from ProgSurf.core.types import Tolerances
 from ProgSurf.io import read_strokes
 
@@ -76,7 +76,7 @@ def test_a_tigl_network_builds_with_its_seam_boundary():
     if not path.is_file():
         pytest.skip(f"{path} not found")
     strokes = read_strokes(path)
-    res = build(strokes, boundary=tigl_boundary(path))
+    res = build_network(strokes, boundary=tigl_boundary(path))
     assert_built(res, len(strokes))
     assert len(res.accepted) > 4  # the four boundary strokes and at least one interior curve
     assert any("seam" in n for n in res.boundary.notes)
@@ -88,7 +88,7 @@ def test_a_tigl_network_builds_with_its_seam_boundary():
 def test_every_real_sketch_builds_or_raises_a_project_error(path, boundary):
     strokes = read_strokes(path)
     try:
-        res = build(strokes, boundary=boundary)
+        res = build_network(strokes, boundary=boundary)
     except ProgSurfError as exc:
         assert NAMES_STROKES.search(str(exc)), str(exc)
     else:
