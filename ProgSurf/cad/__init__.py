@@ -1,8 +1,8 @@
 """ProgSurf.cad: the one adapter between the numeric core and OCC (FreeCAD's Part module).
 
-Network polylines -> shared cubic B-spline edge curves (curves, fit); regions -> exact Coons B-spline
-faces (faces); faces -> one sewn shell (shell); STEP/IGES export and fresh-process read-back (export);
-G1 faces by flux correction (g1);
+Network polylines -> shared cubic B-spline edge curves (curves, on the numpy fit of core.curve_fit);
+regions -> exact Coons B-spline faces (faces); faces -> one sewn shell (shell); STEP/IGES export and
+fresh-process read-back (export); G1 faces by flux correction (g1);
 seam gaps, G1 defect, fit and stroke deviations (analysis); a matplotlib picture (render).
 Only this package imports FreeCAD/Part and converts numpy <-> FreeCAD.Vector.
 """

@@ -21,12 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import continuity as g1
+from ..core.bspline import basis_matrix
 from ..core.memo import per_object
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
 from .faces import derivatives_of, unit_normal, unit_normals
-from .fit import basis_matrix
 
 MIN_SPANS = 16
 """Each direction of a G1 face gets at least this many knot spans (uniform knots are inserted)."""

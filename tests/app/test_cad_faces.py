@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ProgSurf.cad import curves, faces
-from ProgSurf.cad.fit import basis_matrix, chord_sag, fit_cubic
+from ProgSurf.core.curve_fit import basis_matrix, chord_sag, fit_cubic
 from ProgSurf.core.bspline import SpanBasis, basis_matrices
 from ProgSurf.core.coons import coons_patch
 from ProgSurf.core.errors import FitError
@@ -172,7 +172,7 @@ def test_surface_derivatives_evaluate_like_occ():
 
 
 def test_fit_with_end_derivatives_meets_them_exactly():
-    """cad.fit.fit_cubic(derivs=): the first and second derivatives asked for at both ends (how a
+    """core.curve_fit.fit_cubic(derivs=): the first and second derivatives asked for at both ends (how a
     refitted part of a network curve joins its kept neighbours C2), within tolerance in between."""
     t = np.linspace(0.0, 1.0, 30)
     pts = np.column_stack([40 * t, 10 * np.sin(3 * t), 5 * t ** 2])
