@@ -20,6 +20,7 @@ from __future__ import annotations
 import hashlib
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -28,6 +29,7 @@ from ..core.types import FloatArray, Tolerances
 from ._occ import Part, Vector
 from .curves import constant_curve, fit_points, fit_polyline, join_side, unit_segment
 from .faces import coons_surface
+from .surface_data import SurfaceData
 
 CONTINUITIES = ("G0", "G1")
 """G0: the paper's Coons sub-patches as they are; G1: tangent-continuous seams (issue 9, cad.g1)."""
@@ -64,6 +66,12 @@ class FaceInfo:
         """(nu, nv, udegree, vdegree) of the B-spline surface."""
         s = self.surface
         return s.NbUPoles, s.NbVPoles, s.UDegree, s.VDegree
+
+    @cached_property
+    def derived(self) -> SurfaceData:
+        """What is derived from the surface (cad.surface_data), kept with the face: build_shell
+        reuses a FaceInfo while its face's inputs are unchanged."""
+        return SurfaceData(self.surface)
 
 
 @dataclass(frozen=True)

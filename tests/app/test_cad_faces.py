@@ -129,9 +129,10 @@ def test_span_basis_and_derivative_basis_agree_with_cox_de_boor(seed):
 
 
 def test_surface_derivatives_evaluate_like_occ():
-    """cad.faces.SurfaceDerivatives (all points at once, from the derivative poles) against OCC's
-    getDN on a Coons face with C0 junction knots, on its sides, corners and inside; normals undefined
-    at the apex of a 3-sided face, as unit_normal says."""
+    """core.bspline_surface.SurfaceDerivatives of a Part surface (cad.faces.surface_derivatives: all
+    points at once, from the derivative poles) against OCC's getDN on a Coons face with C0 junction
+    knots, on its sides, corners and inside; normals undefined at the apex of a 3-sided face, as
+    unit_normal says."""
     rng = np.random.default_rng(4)
     sides = [curves.fit_points(np.linspace(0, 1, 12), np.column_stack([np.linspace(0, 30, 12), 3 * np.sin(np.linspace(0, 3, 12)) + k, np.full(12, 2.0 * k)]), 0.01) for k in range(2)]
     left = curves.line_curve(np.array(tuple(sides[0].StartPoint)), np.array(tuple(sides[1].StartPoint)))
@@ -140,7 +141,7 @@ def test_surface_derivatives_evaluate_like_occ():
                              [False, False], [0.0, 0.4, 1.0])
     for surface in (faces.coons_surface(sides[0], right, sides[1], left),
                     faces.coons_surface(sides[0], right, curves.constant_curve(np.array(tuple(sides[1].StartPoint))), left)):
-        d = faces.SurfaceDerivatives(surface)
+        d = faces.surface_derivatives(surface)
         s = np.concatenate([[0.0, 1.0, 0.0, 1.0, 0.3], rng.random(60)])
         r = np.concatenate([[0.0, 0.0, 1.0, 1.0, 0.4], rng.random(60)])
         ds, dr = d.derivatives(s, r)
@@ -188,12 +189,13 @@ def test_fit_with_end_derivatives_meets_them_exactly():
 
 def test_distances_by_numpy_projection_equal_occ_evaluation():
     """cad.analysis projects onto ProgSurf's bicubic faces in numpy, all points of a face at once
-    (_project_many); the same clamped Gauss-Newton steps evaluated by OCC (_project) give the same
-    distances from the same starts, on the face and off it."""
+    (core.bspline_surface.project_points); the same clamped Gauss-Newton steps evaluated by OCC
+    (cad.analysis._project) give the same distances from the same starts, on the face and off it."""
     from pathlib import Path
 
     from ProgSurf import cad
     from ProgSurf.cad import analysis
+    from ProgSurf.core.bspline_surface import project_points
     from ProgSurf.core.pipeline import build
     from ProgSurf.io import read_strokes
 
@@ -203,9 +205,9 @@ def test_distances_by_numpy_projection_equal_occ_evaluation():
     pts = np.vstack([pts, pts[::3] + np.random.default_rng(0).normal(scale=2.0, size=pts[::3].shape)])
     bounds = (0.0, 1.0, 0.0, 1.0)
     for f in shell.faces:
-        uv, xyz = analysis._grid(f.surface, bounds, 41)
+        uv, xyz = f.derived.grid(bounds, 41)
         starts = uv[np.argmin(np.linalg.norm(xyz[None, :, :] - pts[:, None, :], axis=2), axis=1)]
-        fast = analysis._project_many(f.surface, bounds, pts, starts)
+        fast = project_points(f.derived.derivatives, bounds, pts, starts)
         slow = np.array([analysis._project(f.surface, bounds, p, s) for p, s in zip(pts, starts)])
         assert np.abs(fast - slow).max() <= 1e-9
     d = analysis.point_distances(shell, pts)
