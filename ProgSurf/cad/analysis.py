@@ -28,6 +28,8 @@ class SeamStat:
 
     gap_max_mm      : largest |S_a - S_b| at matching points of the shared edge
     angle_max_deg, angle_median_deg : angle between the unit normals of the two faces (G1 defect)
+
+    G1SeamStat adds what the G1 targets need (sharp features).
     """
 
     edge_id: int
@@ -241,22 +243,16 @@ SHARP_NODE_ZONE = 0.1
 
 
 @dataclass(frozen=True)
-class G1SeamStat:
-    """One interior seam measured for the G1 targets (issue 9).
+class G1SeamStat(SeamStat):
+    """One interior seam measured for the G1 targets (issue 9): a SeamStat (gap and angles over all
+    samples) and
 
-    angle_max_deg, angle_median_deg : over all samples (as SeamStat)
     sharp           : the seam lies on a kinked stroke (core.continuity.sharp_edges): a kept feature
     smooth_max_deg  : largest angle away from sharp nodes (SHARP_NODE_ZONE at such ends); the
                       number the 1 degree target applies to (0 for a sharp seam)
     node_spread_deg : (2,) corner-normal spread at its two nodes (> SHARP_NODE_DEG: sharp node)
     """
 
-    edge_id: int
-    region_a: int
-    region_b: int
-    gap_max_mm: float
-    angle_max_deg: float
-    angle_median_deg: float
     sharp: bool
     smooth_max_deg: float
     node_spread_deg: tuple
@@ -301,14 +297,10 @@ def g1_seam_stats(result, network, samples: int = 128) -> list[G1SeamStat]:
             keep &= t > SHARP_NODE_ZONE
         if spread[1] > SHARP_NODE_DEG:
             keep &= t < 1.0 - SHARP_NODE_ZONE
-        gaps, angles = _seam_samples(uses[0], uses[1], t)
-        defined = ~np.isnan(angles)
-        kept = angles[defined & keep]
-        angles = angles[defined]
+        gaps, angles = _measured(uses[0], uses[1], samples)
+        kept = angles[~np.isnan(angles) & keep]
         is_sharp = eid in sharp
-        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, float(gaps.max()),
-                              float(angles.max()) if len(angles) else 0.0,
-                              float(np.median(angles)) if len(angles) else 0.0, is_sharp,
+        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, *_summary(gaps, angles), is_sharp,
                               0.0 if is_sharp or not len(kept) else float(kept.max()), spread))
     return out
 
