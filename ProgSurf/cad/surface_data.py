@@ -9,6 +9,7 @@ here relies on that.
 """
 from __future__ import annotations
 
+import weakref
 from functools import cached_property
 from typing import Callable
 
@@ -69,8 +70,9 @@ class SurfaceData:
         this face (side, piece, samples), other_key where on the other. Kept while the other face
         is the same (the same SurfaceData, so the same FaceInfo) at the same place: a recompute
         after one stroke measures mostly the same seams. One entry per key: a new neighbour there
-        replaces the old one."""
+        replaces the old one. The neighbour is held by a weak reference, so that a face does not
+        keep the faces it was once measured against alive."""
         entry = self._seams.get(key)
-        if entry is None or entry[0] is not other or entry[1] != other_key:
-            entry = self._seams[key] = (other, other_key, measure())
+        if entry is None or entry[0]() is not other or entry[1] != other_key:
+            entry = self._seams[key] = (weakref.ref(other), other_key, measure())
         return entry[2]
