@@ -2,8 +2,9 @@
 
 Network polylines -> shared cubic B-spline edge curves (curves, on the numpy fit of core.curve_fit);
 regions -> exact Coons B-spline faces (faces); faces -> one sewn shell (shell); STEP/IGES export and
-fresh-process read-back (export); G1 faces by flux correction (g1);
-seam gaps, G1 defect, fit and stroke deviations (analysis); a matplotlib picture (render).
+fresh-process read-back (export); G1 faces by flux correction (g1); what is derived from a face's
+surface, kept with the face (surface_data); seam gaps, G1 defect, fit and stroke deviations
+(analysis); a matplotlib picture (render).
 Only this package imports FreeCAD/Part and converts numpy <-> FreeCAD.Vector.
 """
 from .shell import FaceInfo, ShellResult, SidePiece, build_shell, fit_edges
