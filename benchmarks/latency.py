@@ -50,7 +50,7 @@ def _changed_curves(old, new) -> set:
 
 def fits(old, new, tol: Tolerances) -> bool:
     """True when the adapter can fit every curve the stroke changed (used to keep growth strokes;
-    see README: cad.fit cannot pass exactly through two nodes very close on one curve)."""
+    see README: core.curve_fit cannot pass exactly through two nodes very close on one curve)."""
     edges = new.edges()
     nodes = cad_edges.node_points(edges)
     tol_mm = tol.fit_mm * cad_edges.EDGE_FIT_FRACTION

@@ -5,7 +5,7 @@ sketch's alone. Two builds:
 - pipeline : ProgSurf.core.pipeline.build_network of boundary + N strokes (the core), then cad.build_shell,
              STEP export and a fresh-process read-back, if the adapter can fit the network;
 - fit-checked : the same strokes added one by one, dropping every accepted stroke whose changed
-             curves the adapter cannot fit (see README, cad.fit), so that the STEP numbers exist even
+             curves the adapter cannot fit (see README, core.curve_fit), so that the STEP numbers exist even
              when the pipeline network cannot be exported.
 """
 from __future__ import annotations

@@ -123,7 +123,7 @@ def status_line(record) -> str:
 def nearest_on_faces(infos: Sequence, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Distance of each point (m, 3) to the shell and the index in ``infos`` of the nearest face
     (cad.analysis.surface_distances face by face: grid guess + clamped Gauss-Newton, Eq. 2)."""
-    table = np.array([cad_analysis.surface_distances([(i.surface, (0.0, 1.0, 0.0, 1.0))], points)
+    table = np.array([cad_analysis.surface_distances([(i.derived, (0.0, 1.0, 0.0, 1.0))], points)
                       for i in infos]).reshape(len(infos), -1)
     return table.min(axis=0), table.argmin(axis=0)
 

@@ -1,11 +1,12 @@
 """ProgSurf.cad: the one adapter between the numeric core and OCC (FreeCAD's Part module).
 
-Network polylines -> shared cubic B-spline edge curves (curves, fit), each network curve fitted once
-and cut into its edges (edges); regions -> exact Coons B-spline faces (faces; per region, with their
-side pieces: patch_faces); faces -> one sewn shell (sewing); the three steps, incremental through one
-ShellCache (shell); STEP/IGES export and fresh-process read-back (export); G1 faces by flux
-correction (g1);
-seam gaps, G1 defect, fit and stroke deviations (analysis); a matplotlib picture (render).
+Network polylines -> shared cubic B-spline edge curves (curves, on the numpy fit of core.curve_fit),
+each network curve fitted once and cut into its edges (edges); regions -> exact Coons B-spline faces
+(faces; per region, with their side pieces: patch_faces); faces -> one sewn shell (sewing); the three
+steps, incremental through one ShellCache (shell); STEP/IGES export and fresh-process read-back
+(export); G1 faces by flux correction (g1); what is derived from a face's surface, kept with the face
+(surface_data); seam gaps, G1 defect, fit and stroke deviations (analysis); a matplotlib picture
+(render).
 Only this package imports FreeCAD/Part and converts numpy <-> FreeCAD.Vector.
 """
 from .edges import fit_edges

@@ -12,10 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.memo import per_object
+from ..core.bspline_surface import project_points
 from ..core.types import FloatArray
 from ._occ import Part, Vector
-from .faces import derivatives_of, is_plain_bspline, unit_normal
+from .faces import unit_normal
+from .surface_data import SurfaceData
 
 SIDE_UV = (lambda w: (w, 0.0), lambda w: (1.0, w), lambda w: (w, 1.0), lambda w: (0.0, w))
 """(s, r) of side parameter w on sides bottom, right, top, left of a face's parameter square."""
@@ -27,6 +28,8 @@ class SeamStat:
 
     gap_max_mm      : largest |S_a - S_b| at matching points of the shared edge
     angle_max_deg, angle_median_deg : angle between the unit normals of the two faces (G1 defect)
+
+    G1SeamStat adds what the G1 targets need (sharp features).
     """
 
     edge_id: int
@@ -69,30 +72,38 @@ def _seam_samples(a: tuple, b: tuple, t: FloatArray) -> tuple[FloatArray, FloatA
     return gaps, angles
 
 
+def _measured(a: tuple, b: tuple, samples: int) -> tuple[FloatArray, FloatArray]:
+    """_seam_samples at `samples` evenly spaced edge parameters (read-only arrays), kept with face
+    a (its SurfaceData.seam) while face b and the pieces of both sides along the seam are the same:
+    a recompute after one stroke measures mostly the same seams."""
+    (fa, ka, pa), (fb, kb, pb) = a, b
+
+    def measure() -> tuple[FloatArray, FloatArray]:
+        gaps, angles = _seam_samples(a, b, np.linspace(0.0, 1.0, samples))
+        gaps.setflags(write=False)
+        angles.setflags(write=False)
+        return gaps, angles
+
+    return fa.derived.seam((ka, pa, samples), fb.derived, (kb, pb), measure)
+
+
+def _summary(gaps: FloatArray, angles: FloatArray) -> tuple[float, float, float]:
+    """(gap_max_mm, angle_max_deg, angle_median_deg) of a seam's samples; the angles where a normal
+    is undefined (NaN) are left out, and both angles are 0 where none is defined."""
+    angles = angles[~np.isnan(angles)]
+    return (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
+            float(np.median(angles)) if len(angles) else 0.0)
+
+
 def seam_stats(result, samples: int = 64) -> list[SeamStat]:
     """Gap and normal angle along every edge shared by two faces, sampled at `samples` points."""
     out = []
-    t = np.linspace(0.0, 1.0, samples)
     for eid, uses in sorted(_edge_uses(result).items()):
         if len(uses) != 2:
             continue
-        (fa, ka, pa), (fb, kb, pb) = uses
-
-        def measure(a=uses[0], b=uses[1]) -> tuple:
-            gaps, angles = _seam_samples(a, b, t)
-            angles = angles[~np.isnan(angles)]
-            return (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
-                    float(np.median(angles)) if len(angles) else 0.0)
-
-        stats = per_object(_SEAMS, (fa.surface, fb.surface), measure, (ka, kb, pa, pb, samples),
-                           4 * GRID_CACHE_FACES)
-        out.append(SeamStat(eid, fa.region_id, fb.region_id, *stats))
+        stats = _summary(*_measured(uses[0], uses[1], samples))
+        out.append(SeamStat(eid, uses[0][0].region_id, uses[1][0].region_id, *stats))
     return out
-
-
-_SEAMS: dict = {}
-"""Seam measurements kept between calls (core.memo.per_object), per pair of surface objects and the
-pieces of their sides along the seam: a recompute after one stroke measures mostly the same seams."""
 
 
 def fit_deviation(result, network, n: int = 21) -> dict:
@@ -108,33 +119,10 @@ def fit_deviation(result, network, n: int = 21) -> dict:
     return out
 
 
-_GRIDS: dict = {}
-GRID_CACHE_FACES = 512
-"""Sample grids kept between calls, per surface object (a recompute after one stroke measures
-the strokes again on mostly the same faces): {id(surface): (surface, bounds, n, grid)}. An entry
-holds its surface, so the id stays its own while cached; the oldest go first beyond this size."""
-
-
-def _grid(surface, bounds, n: int) -> tuple[FloatArray, FloatArray]:
-    entry = _GRIDS.get(id(surface))
-    if entry is not None and entry[0] is surface and entry[1] == tuple(bounds) and entry[2] == n:
-        return entry[3]
-    u0, u1, v0, v1 = bounds
-    uu, vv = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
-    uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
-    if is_plain_bspline(surface):      # all samples in one numpy evaluation (cad.faces)
-        grid = (uv, derivatives_of(surface).evaluate(uv[:, 0], uv[:, 1])[0])
-    else:
-        grid = (uv, np.array([tuple(surface.value(float(u), float(v))) for u, v in uv]))
-    _GRIDS[id(surface)] = (surface, tuple(bounds), n, grid)
-    while len(_GRIDS) > GRID_CACHE_FACES:
-        del _GRIDS[next(iter(_GRIDS))]
-    return grid
-
-
 def _project(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 12) -> float:
     """Distance from p to the surface patch over `bounds`: Gauss-Newton from uv, clamped to bounds
-    (the 2x2 normal equations of the step, in plain floats)."""
+    (the 2x2 normal equations of the step, in plain floats): core.bspline_surface.project_points
+    for a surface numpy cannot evaluate (one OCC call per evaluation)."""
     u0, u1, v0, v1 = bounds
     px, py, pz = (float(x) for x in p)
     u, v = float(uv[0]), float(uv[1])
@@ -166,9 +154,12 @@ GRID_BLOCK = 250_000
 def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: int = 3) -> FloatArray:
     """(m,) distance from each point (m, 3) to the union of surface patches [(surface, (u0,u1,v0,v1))]:
     nearest samples of a grid on each patch, then a clamped Gauss-Newton projection on the
-    `candidates` nearest patches (OCC's Extrema is ~50 ms a point on a heavy B-spline face)."""
+    `candidates` nearest patches (OCC's Extrema is ~50 ms a point on a heavy B-spline face).
+    A patch's surface may be given as its SurfaceData (a FaceInfo's `derived`): its grid and numpy
+    evaluator are then kept for the next call."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    grids = [_grid(surf, bounds, grid) for surf, bounds in patches]
+    patches = [(s if isinstance(s, SurfaceData) else SurfaceData(s), bounds) for s, bounds in patches]
+    grids = [data.grid(bounds, grid) for data, bounds in patches]
     if not grids:
         return np.full(len(pts), np.inf)
     sizes = [len(xyz) for _, xyz in grids]
@@ -199,49 +190,19 @@ def surface_distances(patches, points: FloatArray, grid: int = 41, candidates: i
     for k in np.unique(near):
         rows, cols = np.nonzero(near == k)
         uv, _ = grids[k]
-        surface, bounds = patches[k]
+        data, bounds = patches[k]
         begin = uv[start[rows, cols]]
-        if is_plain_bspline(surface):
-            d = _project_many(surface, bounds, pts[rows], begin)
+        if data.plain:        # all of this face's projections in numpy
+            d = project_points(data.derivatives, bounds, pts[rows], begin)
         else:
-            d = np.array([_project(surface, bounds, pts[i], b) for i, b in zip(rows, begin)])
+            d = np.array([_project(data.surface, bounds, pts[i], b) for i, b in zip(rows, begin)])
         np.minimum.at(out, rows, d)
     return out
 
 
-def _project_many(surface, bounds, p: FloatArray, uv: FloatArray, iterations: int = 12) -> FloatArray:
-    """_project for many points (m, 3) on one non-rational B-spline patch at once, from starts uv
-    (m, 2): the same clamped Gauss-Newton steps, evaluated in numpy (cad.faces.SurfaceDerivatives)."""
-    u0, u1, v0, v1 = bounds
-    ev = derivatives_of(surface)
-    u, v = uv[:, 0].astype(float).copy(), uv[:, 1].astype(float).copy()
-    best = np.full(len(p), np.inf)
-    live = np.ones(len(p), dtype=bool)
-    for _ in range(iterations):
-        idx = np.flatnonzero(live)
-        if not len(idx):
-            break
-        q, a, b = ev.evaluate(u[idx], v[idx])
-        r = p[idx] - q
-        best[idx] = np.minimum(best[idx], np.linalg.norm(r, axis=1))
-        aa, ab, bb = (a * a).sum(1), (a * b).sum(1), (b * b).sum(1)
-        ar, br = (a * r).sum(1), (b * r).sum(1)
-        det = aa * bb - ab * ab
-        ok = det > 1e-300 * np.maximum(aa * bb, 1e-300)
-        safe = np.where(ok, det, 1.0)
-        nu = np.clip(u[idx] + (bb * ar - ab * br) / safe, u0, u1)
-        nv = np.clip(v[idx] + (aa * br - ab * ar) / safe, v0, v1)
-        moving = ok & (np.abs(nu - u[idx]) + np.abs(nv - v[idx]) >= 1e-13)
-        u[idx] = np.where(moving, nu, u[idx])
-        v[idx] = np.where(moving, nv, v[idx])
-        live[idx] = moving
-    q = ev.evaluate(u, v)[0]
-    return np.minimum(best, np.linalg.norm(p - q, axis=1))
-
-
 def point_distances(result, points: FloatArray) -> FloatArray:
     """(m,) distance from each point to the faces of a ShellResult (each face spans [0,1]^2)."""
-    return surface_distances([(f.surface, (0.0, 1.0, 0.0, 1.0)) for f in result.faces], points)
+    return surface_distances([(f.derived, (0.0, 1.0, 0.0, 1.0)) for f in result.faces], points)
 
 
 def shape_point_distances(shape, points: FloatArray) -> FloatArray:
@@ -282,22 +243,16 @@ SHARP_NODE_ZONE = 0.1
 
 
 @dataclass(frozen=True)
-class G1SeamStat:
-    """One interior seam measured for the G1 targets (issue 9).
+class G1SeamStat(SeamStat):
+    """One interior seam measured for the G1 targets (issue 9): a SeamStat (gap and angles over all
+    samples) and
 
-    angle_max_deg, angle_median_deg : over all samples (as SeamStat)
     sharp           : the seam lies on a kinked stroke (core.continuity.sharp_edges): a kept feature
     smooth_max_deg  : largest angle away from sharp nodes (SHARP_NODE_ZONE at such ends); the
                       number the 1 degree target applies to (0 for a sharp seam)
     node_spread_deg : (2,) corner-normal spread at its two nodes (> SHARP_NODE_DEG: sharp node)
     """
 
-    edge_id: int
-    region_a: int
-    region_b: int
-    gap_max_mm: float
-    angle_max_deg: float
-    angle_median_deg: float
     sharp: bool
     smooth_max_deg: float
     node_spread_deg: tuple
@@ -342,14 +297,10 @@ def g1_seam_stats(result, network, samples: int = 128) -> list[G1SeamStat]:
             keep &= t > SHARP_NODE_ZONE
         if spread[1] > SHARP_NODE_DEG:
             keep &= t < 1.0 - SHARP_NODE_ZONE
-        gaps, angles = _seam_samples(uses[0], uses[1], t)
-        defined = ~np.isnan(angles)
-        kept = angles[defined & keep]
-        angles = angles[defined]
+        gaps, angles = _measured(uses[0], uses[1], samples)
+        kept = angles[~np.isnan(angles) & keep]
         is_sharp = eid in sharp
-        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, float(gaps.max()),
-                              float(angles.max()) if len(angles) else 0.0,
-                              float(np.median(angles)) if len(angles) else 0.0, is_sharp,
+        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, *_summary(gaps, angles), is_sharp,
                               0.0 if is_sharp or not len(kept) else float(kept.max()), spread))
     return out
 

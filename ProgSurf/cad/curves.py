@@ -14,10 +14,10 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
+from ..core.curve_fit import DEGREE, fit_cubic
 from ..core.errors import FitError
 from ..core.types import FloatArray, Polyline
 from ._occ import Part, Vector
-from .fit import DEGREE, fit_cubic
 
 
 
@@ -70,7 +70,7 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
                name: str = "curve", breaks=(), derivs: dict | None = None, seed=()):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
     at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
-    included), and with the end derivatives `derivs` if given (cad.fit.fit_cubic). Two points
+    included), and with the end derivatives `derivs` if given (core.curve_fit.fit_cubic). Two points
     (or all coincident) give a straight segment, unless end derivatives are asked for.
     Raises FitError when no cubic B-spline within tol_mm is found."""
     prm = np.asarray(params, dtype=float)

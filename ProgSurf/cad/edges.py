@@ -2,7 +2,7 @@
 
 Qin & Wright section 3.3, first half: the boundary curves of the sub-patches become B-spline
 curves. Each network curve (an outer side or an accepted stroke) is fitted ONCE through all its
-nodes (cad.fit, within EDGE_FIT_FRACTION of the fit tolerance) and cut at them into its edges, so
+nodes (core.curve_fit, within EDGE_FIT_FRACTION of the fit tolerance) and cut at them into its edges, so
 that two faces meeting at an edge bound themselves by the very same curve (cad.patch_faces).
 
 Incremental (fit_edges(cache=)): a curve whose edges and nodes are all unchanged is taken from the
@@ -90,7 +90,7 @@ def fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: di
     """Fit one network curve (a chain of edges) once, through all its nodes; cut it into the edges.
     The curve parameter is the cumulative pre-image (uv) length, which is how the network
     parametrises region sides, so the pieces re-join smoothly on a side.
-    derivs: end derivatives the fit must have (see cad.fit.fit_cubic), for a part of a curve;
+    derivs: end derivatives the fit must have (see core.curve_fit.fit_cubic), for a part of a curve;
     seed: interior knots (curve parameter) to start the refinement from.
     Returns edge id -> Part.BSplineCurve on [0, 1] (edge param 0 at node0)."""
     lengths = np.array([uv_length(e) for e, _ in chain])

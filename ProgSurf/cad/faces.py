@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.bspline_surface import SurfaceDerivatives
 from ..core.errors import FitError
-from ..core.memo import per_object
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import DEGREE, _knots_mults, make_compatible, to_array, to_vectors
@@ -90,7 +90,8 @@ def coons_surface(bottom, right, top, left):
 def unit_normal(surface, s: float, r: float) -> FloatArray | None:
     """Unit normal S_s x S_r / |.| of a surface at (s, r), None where degenerate (the apex of a
     3-sided face). Plain-float arithmetic: the same operations as np.cross and np.linalg.norm,
-    ~20x cheaper on single 3-vectors (seam measurement and G1 sample thousands of them)."""
+    ~20x cheaper on single 3-vectors (seam measurement and G1 sample thousands of them); the rule
+    of core.bspline_surface.unit_normals for many points."""
     ax, ay, az = surface.getDN(s, r, 1, 0)
     bx, by, bz = surface.getDN(s, r, 0, 1)
     nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
@@ -101,111 +102,23 @@ def unit_normal(surface, s: float, r: float) -> FloatArray | None:
     return np.array([nx / ln, ny / ln, nz / ln])
 
 
-class SurfaceDerivatives:
-    """First derivatives S_s, S_r of a non-rational B-spline surface at many (s, r) at once, in
-    numpy from its poles (the derivative surfaces' poles, Piegl & Tiller eq. 3.17): the same values
-    as OCC's getDN to round-off, without one Python call per point (G1 samples thousands)."""
-
-    def __init__(self, surface):
-        from .curves import to_array
-        from ..core.bspline import SpanBasis
-
-        poles = to_array(surface.getPoles())
-        self.p, self.q = surface.UDegree, surface.VDegree
-        self.ku = np.repeat(np.asarray(surface.getUKnots(), dtype=float), surface.getUMultiplicities())
-        self.kv = np.repeat(np.asarray(surface.getVKnots(), dtype=float), surface.getVMultiplicities())
-        self.poles = poles
-        self._span = {"u": SpanBasis(self.ku, self.p), "v": SpanBasis(self.kv, self.q)}
-        self.du = self._diff(poles, self.ku, self.p, axis=0)
-        self.dv = self._diff(poles, self.kv, self.q, axis=1)
-        # round-off of a derivative that is zero (along a collapsed side: the apex of a 3-sided
-        # face), below which it is set to the exact 0 that OCC gives there
-        self._tiny = tuple(1e-12 * max(float(np.abs(d).max()), 1e-300) for d in (self.du, self.dv))
-
-    @staticmethod
-    def _diff(poles, knots, degree, axis):
-        n = poles.shape[axis]
-        span = knots[degree + 1:degree + n] - knots[1:n]
-        scale = np.divide(degree, span, out=np.zeros_like(span), where=span > 0)
-        d = np.diff(poles, axis=axis)
-        shape = [1, 1, 1]
-        shape[axis] = n - 1
-        return d * scale.reshape(shape)
-
-    def derivatives(self, s, r) -> tuple[FloatArray, FloatArray]:
-        """(S_s, S_r), each (m, 3), at parameters s, r (m,)."""
-        return self.evaluate(s, r, values=False)[1:]
-
-    def evaluate(self, s, r, values: bool = True) -> tuple:
-        """(S or None, S_s, S_r), each (m, 3), at parameters s, r (m,)."""
-        s, r = np.atleast_1d(np.asarray(s, dtype=float)), np.atleast_1d(np.asarray(r, dtype=float))
-        if len(s) > 1 and np.all(s == s[0]):          # along an iso-line s = const (a side)
-            bu, bu1 = self._row("u", s[0])
-            bv, bv1 = self._span["v"](r)
-            q = (self._iso(bu, self.poles, bv, 0) if values else None)
-            ds, dr = self._iso(bu1, self.du, bv, 0), self._iso(bu, self.dv, bv1, 0)
-        elif len(r) > 1 and np.all(r == r[0]):        # along r = const
-            bv, bv1 = self._row("v", r[0])
-            bu, bu1 = self._span["u"](s)
-            q = (self._iso(bv, self.poles, bu, 1) if values else None)
-            ds, dr = self._iso(bv, self.du, bu1, 1), self._iso(bv1, self.dv, bu, 1)
-        else:
-            bu, bu1 = self._span["u"](s)
-            bv, bv1 = self._span["v"](r)
-            q = self._contract(bu, self.poles, bv) if values else None
-            ds, dr = self._contract(bu1, self.du, bv), self._contract(bu, self.dv, bv1)
-        for d, tiny in ((ds, self._tiny[0]), (dr, self._tiny[1])):
-            d[np.abs(d).max(axis=1) <= tiny] = 0.0
-        return q, ds, dr
-
-    def _row(self, direction: str, t: float) -> tuple[FloatArray, FloatArray]:
-        """Basis and derivative basis (1, n) at one parameter; at 0 or 1 (clamped ends) only the
-        end functions are 1."""
-        basis = self._span[direction]
-        if t in (0.0, 1.0):
-            b, b1 = np.zeros((1, basis.n)), np.zeros((1, basis.n - 1))
-            b[0, -1 if t == 1.0 else 0] = b1[0, -1 if t == 1.0 else 0] = 1.0
-            return b, b1
-        return basis(np.array([t]))
-
-    @staticmethod
-    def _iso(row: FloatArray, poles: FloatArray, basis: FloatArray, axis: int) -> FloatArray:
-        """sum over both pole indices with the fixed direction's basis `row` (1, n_axis) and the
-        other direction's `basis` (m, n_other): the iso-curve's poles first, then its points."""
-        curve = np.tensordot(row[0], poles, axes=([0], [axis]))        # (n_other, 3)
-        return basis @ curve
-
-    @staticmethod
-    def _contract(bu: FloatArray, poles: FloatArray, bv: FloatArray) -> FloatArray:
-        """sum_ij bu[m, i] poles[i, j] bv[m, j] -> (m, 3), as one matrix product and a row sum."""
-        rows = (bu @ poles.reshape(poles.shape[0], -1)).reshape(len(bu), poles.shape[1], 3)
-        return np.einsum("mjd,mj->md", rows, bv)
-
-    def normals(self, s, r) -> tuple[FloatArray, np.ndarray]:
-        """Unit normals (m, 3) and (m,) True where defined, by unit_normal's rule."""
-        return unit_normals(*self.derivatives(s, r))
+def full_knots(surface, direction: str) -> FloatArray:
+    """The full knot vector of a B-spline surface in direction "U" or "V": each knot repeated by
+    its multiplicity."""
+    ks = getattr(surface, f"get{direction}Knots")()
+    ms = getattr(surface, f"get{direction}Multiplicities")()
+    return np.repeat(np.asarray(ks, dtype=float), ms)
 
 
-def unit_normals(ds: FloatArray, dr: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    """unit_normal for many points from their derivatives S_s, S_r (m, 3): unit normals (m, 3)
-    and (m,) True where defined (zero rows where not)."""
-    n = np.cross(ds, dr)
-    ln = np.linalg.norm(n, axis=1)
-    ok = ln > 1e-6 * np.maximum(np.linalg.norm(ds, axis=1) * np.linalg.norm(dr, axis=1), 1e-300)
-    return np.divide(n, ln[:, None], out=np.zeros_like(n), where=ok[:, None]), ok
-
-
-_DERIVATIVES: dict = {}
-
-
-def derivatives_of(surface) -> SurfaceDerivatives:
-    """The SurfaceDerivatives of a surface, kept while the surface object lives (faces are reused
-    between builds)."""
-    return per_object(_DERIVATIVES, (surface,), lambda: SurfaceDerivatives(surface))
+def surface_derivatives(surface) -> SurfaceDerivatives:
+    """The numpy evaluator (core.bspline_surface.SurfaceDerivatives) of a non-rational
+    Part.BSplineSurface (see is_plain_bspline), from its poles and knots."""
+    return SurfaceDerivatives(to_array(surface.getPoles()), full_knots(surface, "U"),
+                              full_knots(surface, "V"), surface.UDegree, surface.VDegree)
 
 
 def is_plain_bspline(surface) -> bool:
-    """True for a non-rational B-spline surface of degree <= 3 (what SurfaceDerivatives evaluates;
+    """True for a non-rational B-spline surface of degree <= 3 (what surface_derivatives evaluates;
     ProgSurf's faces are bicubic, a peer's GeomPlate surface may be of degree 8)."""
     return (getattr(surface, "TypeId", "") == "Part::GeomBSplineSurface"
             and not surface.isURational() and not surface.isVRational()

@@ -17,16 +17,17 @@ corner the fluxes give way, which is where the remaining G1 defect sits.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from ..core import continuity as g1
-from ..core.memo import per_object
+from ..core.bspline import basis_matrix
+from ..core.bspline_surface import unit_normals
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
-from .faces import derivatives_of, unit_normal, unit_normals
-from .fit import basis_matrix
+from .faces import full_knots, unit_normal
 
 MIN_SPANS = 16
 """Each direction of a G1 face gets at least this many knot spans (uniform knots are inserted)."""
@@ -79,42 +80,28 @@ class _Refined:
     mults_knots: tuple
 
 
-_REFINED: dict = {}
-
-
-def _refined(surface) -> _Refined:
-    """_Refined of a G0 surface, kept while the surface object lives: the G1 faces around a
-    changed one are rebuilt on unchanged G0 faces."""
-    def make() -> _Refined:
-        r = _refine(surface)
-        poles = to_array(r.getPoles())
-        poles.setflags(write=False)
-        return _Refined(poles, _full_knots(r, "U"), _full_knots(r, "V"),
-                        (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots()))
-
-    return per_object(_REFINED, (surface,), make)
-
-
-def _full_knots(surface, direction: str) -> FloatArray:
-    ks = getattr(surface, f"get{direction}Knots")()
-    ms = getattr(surface, f"get{direction}Multiplicities")()
-    return np.repeat(np.asarray(ks, dtype=float), ms)
+def refined_surface(surface) -> _Refined:
+    """_Refined of a G0 surface. Kept with the G0 face (its SurfaceData.refined, cad.surface_data):
+    the G1 faces around a changed one are rebuilt on unchanged G0 faces."""
+    r = _refine(surface)
+    poles = to_array(r.getPoles())
+    poles.setflags(write=False)
+    return _Refined(poles, full_knots(r, "U"), full_knots(r, "V"),
+                    (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots()))
 
 
 def _cubic_coeffs(knots: FloatArray, fn) -> FloatArray:
     """Coefficients of a cubic polynomial fn(t) in the clamped cubic B-spline basis `knots` (exact)."""
-    key = (fn, tuple(np.asarray(knots, dtype=float).tolist()))
-    found = _COEFFS.get(key)
-    if found is None:
-        if len(_COEFFS) > 4096:
-            _COEFFS.clear()
-        found = _COEFFS[key] = _solve_coeffs(np.asarray(knots, dtype=float), fn)
-        found.setflags(write=False)
+    return _coeffs(fn, tuple(np.asarray(knots, dtype=float).tolist()))
+
+
+@lru_cache(maxsize=4096)
+def _coeffs(fn, knots: tuple) -> FloatArray:
+    """_cubic_coeffs by value of the knots (read-only): G1 faces share knot vectors (MIN_SPANS
+    uniform knots)."""
+    found = _solve_coeffs(np.asarray(knots, dtype=float), fn)
+    found.setflags(write=False)
     return found
-
-
-_COEFFS: dict = {}
-"""(function, knots) -> its coefficients: G1 faces share knot vectors (MIN_SPANS uniform knots)."""
 
 
 def _solve_coeffs(knots: FloatArray, fn) -> FloatArray:
@@ -207,7 +194,7 @@ class _Seams:
                 found.append(known[1:])
                 continue
             w = p.a + ((1.0 - ts) if p.reversed else ts) * (p.b - p.a)
-            found.append(derivatives_of(f.surface).derivatives(*_side_points(k, w)))
+            found.append(f.derived.derivatives.derivatives(*_side_points(k, w)))
         (ds, dr), (db_s, db_r) = found
         na, oka = unit_normals(ds, dr)
         nb, okb = unit_normals(db_s, db_r)
@@ -275,7 +262,7 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
               & (w[:, None] <= np.array([p.b for p in pieces])[None, :] + 1e-12))
     owner = np.where(inside.any(axis=1), np.argmax(inside, axis=1), -1)
     # this face's derivatives along the whole side, once: the seam normals and the flux use them
-    ds_all, dr_all = derivatives_of(info.surface).derivatives(*_side_points(k, w))
+    ds_all, dr_all = info.derived.derivatives.derivatives(*_side_points(k, w))
     for j, piece in enumerate(pieces):
         if piece.edge_id not in seams.seam:
             continue
@@ -297,7 +284,7 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
 
 def smooth_face(info, network, seams: _Seams) -> G1Face:
     """The G1 surface of one G0 FaceInfo (see the module docstring)."""
-    refined = _refined(info.surface)
+    refined = info.derived.refined
     ku, kv = refined.ku, refined.kv
     side_knots = (ku, kv, ku, kv)
     free = tuple(not any(p.edge_id in seams.seam for p in pieces) and not any(p.edge_id in seams.sharp

@@ -14,6 +14,7 @@ from the earlier builds' ShellCache (faces, regions; g1_faces, g1_shapes in G1 m
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -23,6 +24,7 @@ from ..core.types import FloatArray
 from .curves import constant_curve, join_side
 from .edges import content_digest
 from .faces import coons_surface
+from .surface_data import SurfaceData
 
 if TYPE_CHECKING:
     from .shell import ShellCache
@@ -56,6 +58,12 @@ class FaceInfo:
         """(nu, nv, udegree, vdegree) of the B-spline surface."""
         s = self.surface
         return s.NbUPoles, s.NbVPoles, s.UDegree, s.VDegree
+
+    @cached_property
+    def derived(self) -> SurfaceData:
+        """What is derived from the surface (cad.surface_data), kept with the face: build_shell
+        reuses a FaceInfo while its face's inputs are unchanged."""
+        return SurfaceData(self.surface)
 
 
 def side_parameter(side_points: FloatArray, side_params: FloatArray, point: FloatArray) -> float:

@@ -1,5 +1,5 @@
 """Cubic B-spline basis functions in numpy (Cox-de Boor), shared by stroke fairing (core.fairing)
-and the constrained curve fit of the CAD adapter (cad.fit)."""
+and the constrained curve fit of the shared edges (core.curve_fit)."""
 from __future__ import annotations
 
 import numpy as np

@@ -33,7 +33,6 @@ import numpy.typing as npt
 
 from .coons import f1, f2
 from .errors import ProgSurfError
-from .memo import per_object
 from .types import FloatArray, Polyline
 
 KINK_ANGLE_DEG = 30.0
@@ -151,10 +150,12 @@ def turning_angles(points: FloatArray, window: float = KINK_WINDOW) -> FloatArra
 
 
 def is_kinked(polyline: Polyline, angle_deg: float = KINK_ANGLE_DEG, window: float = KINK_WINDOW) -> bool:
-    """True if the polyline turns by more than angle_deg within the window somewhere inside it."""
+    """True if the polyline turns by more than angle_deg within the window somewhere inside it
+    (at the default window, by the polyline's own turning_deg, made once per polyline)."""
     if not angle_deg > 0:
         raise ProgSurfError(f"kink angle {angle_deg} must be a positive angle in degrees")
-    return bool(np.any(turning_angles(polyline.points, window) > angle_deg))
+    angles = polyline.turning_deg if window == KINK_WINDOW else turning_angles(polyline.points, window)
+    return bool(np.any(angles > angle_deg))
 
 
 def sharp_edges(network, angle_deg: float = KINK_ANGLE_DEG) -> frozenset:
@@ -169,14 +170,10 @@ def sharp_edges(network, angle_deg: float = KINK_ANGLE_DEG) -> frozenset:
     for cid, group in by_curve.items():
         if cid in (0, 1, 2, 3):
             continue
-        for e in group:        # polylines are immutable: an unchanged edge is not tested again
-            if per_object(_KINKED, (e.polyline,), lambda: is_kinked(e.polyline, angle_deg), (angle_deg,), 8192):
+        for e in group:        # an unchanged edge keeps its polyline and the turning angles on it
+            if is_kinked(e.polyline, angle_deg):
                 out.add(e.id)
     return frozenset(out)
-
-
-_KINKED: dict = {}
-"""is_kinked per polyline and angle (core.memo.per_object)."""
 
 
 def node_normal(corner_normals: list) -> tuple[FloatArray | None, float]:

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Optional
 
 import numpy as np
@@ -66,3 +67,14 @@ class Polyline:
 
     def reversed(self) -> "Polyline":
         return Polyline(self.points[::-1], 1.0 - self.params[::-1])
+
+    @cached_property
+    def turning_deg(self) -> FloatArray:
+        """(n,) read-only turning angle in degrees at each point over the kink window
+        (core.continuity.turning_angles with KINK_WINDOW), made once: G1 mode tests every network
+        edge for kinks at every build, and an unchanged edge keeps its polyline."""
+        from .continuity import KINK_WINDOW, turning_angles
+
+        out = turning_angles(self.points, KINK_WINDOW)
+        out.setflags(write=False)
+        return out

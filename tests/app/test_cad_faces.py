@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ProgSurf.cad import curves, faces
-from ProgSurf.cad.fit import basis_matrix, chord_sag, fit_cubic
+from ProgSurf.core.curve_fit import basis_matrix, chord_sag, fit_cubic
 from ProgSurf.core.bspline import SpanBasis, basis_matrices
 from ProgSurf.core.coons import coons_patch
 from ProgSurf.core.errors import FitError
@@ -129,9 +129,10 @@ def test_span_basis_and_derivative_basis_agree_with_cox_de_boor(seed):
 
 
 def test_surface_derivatives_evaluate_like_occ():
-    """cad.faces.SurfaceDerivatives (all points at once, from the derivative poles) against OCC's
-    getDN on a Coons face with C0 junction knots, on its sides, corners and inside; normals undefined
-    at the apex of a 3-sided face, as unit_normal says."""
+    """core.bspline_surface.SurfaceDerivatives of a Part surface (cad.faces.surface_derivatives: all
+    points at once, from the derivative poles) against OCC's getDN on a Coons face with C0 junction
+    knots, on its sides, corners and inside; normals undefined at the apex of a 3-sided face, as
+    unit_normal says."""
     rng = np.random.default_rng(4)
     sides = [curves.fit_points(np.linspace(0, 1, 12), np.column_stack([np.linspace(0, 30, 12), 3 * np.sin(np.linspace(0, 3, 12)) + k, np.full(12, 2.0 * k)]), 0.01) for k in range(2)]
     left = curves.line_curve(np.array(tuple(sides[0].StartPoint)), np.array(tuple(sides[1].StartPoint)))
@@ -140,7 +141,7 @@ def test_surface_derivatives_evaluate_like_occ():
                              [False, False], [0.0, 0.4, 1.0])
     for surface in (faces.coons_surface(sides[0], right, sides[1], left),
                     faces.coons_surface(sides[0], right, curves.constant_curve(np.array(tuple(sides[1].StartPoint))), left)):
-        d = faces.SurfaceDerivatives(surface)
+        d = faces.surface_derivatives(surface)
         s = np.concatenate([[0.0, 1.0, 0.0, 1.0, 0.3], rng.random(60)])
         r = np.concatenate([[0.0, 0.0, 1.0, 1.0, 0.4], rng.random(60)])
         ds, dr = d.derivatives(s, r)
@@ -172,7 +173,7 @@ def test_surface_derivatives_evaluate_like_occ():
 
 
 def test_fit_with_end_derivatives_meets_them_exactly():
-    """cad.fit.fit_cubic(derivs=): the first and second derivatives asked for at both ends (how a
+    """core.curve_fit.fit_cubic(derivs=): the first and second derivatives asked for at both ends (how a
     refitted part of a network curve joins its kept neighbours C2), within tolerance in between."""
     t = np.linspace(0.0, 1.0, 30)
     pts = np.column_stack([40 * t, 10 * np.sin(3 * t), 5 * t ** 2])

@@ -5,7 +5,8 @@ network nodes inside a curve; neighbouring faces need exactly that (a node where
 crosses, another curve is a corner of several Coons sub-patches). So each network curve is fitted once
 here: minimise sum w_i^2 |C(t_i) - p_i|^2 + lam |second differences of poles|^2 subject to C(t_k) = node_k
 (w_i = tol / the allowance of sample i),
-refining knots where the residual exceeds the tolerance. OCC then holds the result as a Part.BSplineCurve.
+refining knots where the residual exceeds the tolerance. The CAD adapter (cad.curves.fit_points) then
+holds the result as a Part.BSplineCurve.
 """
 from __future__ import annotations
 
@@ -13,9 +14,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..core.bspline import DEGREE, basis_matrix
-from ..core.errors import FitError
-from ..core.types import FloatArray
+from .bspline import DEGREE, basis_matrix
+from .errors import FitError
+from .types import FloatArray
 
 __all__ = ["DEGREE", "basis_matrix", "fit_cubic"]
 
