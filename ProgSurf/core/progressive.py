@@ -87,24 +87,6 @@ class _Work:
     offsets: list = field(default_factory=list)
 
 
-def _edge_segments(net: PatchNetwork):
-    """All 3D segments of all edge polylines: A (S,3), B (S,3), edge id (S,), t0, t1 (S,), and
-    whether the edge is on the outer boundary (S,). Each edge's rows are kept on the network while
-    its view is the same object (a stroke changes a few edges; the rest are only joined)."""
-    edges = net.edges()
-    cache = net.derived("_segments", edges)
-    parts = []
-    for k, e in edges.items():
-        c = cache.get(k)
-        if c is None or c[0] is not e:
-            p, q = e.polyline.points, e.polyline.params
-            n = len(p) - 1
-            c = (e, p[:-1], p[1:], np.full(n, k), q[:-1], q[1:], np.full(n, e.curve_id in OUTER_CURVES))
-            cache[k] = c
-        parts.append(c)
-    return tuple(np.concatenate([c[i] for c in parts]) for i in range(1, 7))
-
-
 def _snap_end(net: PatchNetwork, pts: FloatArray, snap: float, segs) -> Optional[tuple]:
     """Step (2): is the first end of pts on or crossing a boundary curve?
 
@@ -491,7 +473,7 @@ def _snapped_end(net: PatchNetwork, snapped: tuple) -> _End:
 
 def _placed(net: PatchNetwork, pts: FloatArray, snap: float, which: str) -> _End:
     """The end pts[0] on the current network: snapped when it is on a boundary, else free."""
-    snapped = _snap_end(net, pts, snap, _edge_segments(net))
+    snapped = _snap_end(net, pts, snap, net.edge_segments())
     if snapped is not None and snapped[0] == 0:
         return _snapped_end(net, snapped)
     return _free_end(net, pts[0], which, snap)
@@ -500,7 +482,7 @@ def _placed(net: PatchNetwork, pts: FloatArray, snap: float, which: str) -> _End
 def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances,
               snap: float, falloff: str, work: _Work) -> FloatArray:
     """One open stroke: snap/trim its ends, find its straight pieces, insert them in turn."""
-    segs = _edge_segments(net)
+    segs = net.edge_segments()
     first = _snap_end(net, pts, snap, segs)
     if first is not None:
         j, eid, t, p = first
