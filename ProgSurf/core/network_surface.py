@@ -39,7 +39,7 @@ class _FacetPart:
 
     __slots__ = ("rid", "grid_xyz", "grid_uv", "box", "_full")
 
-    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray):
+    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray) -> None:
         self.rid, self.grid_xyz, self.grid_uv = rid, grid_xyz, grid_uv
         flat = grid_xyz.reshape(-1, 3)
         self.box = np.stack([flat.min(axis=0), flat.max(axis=0)])
