@@ -79,11 +79,11 @@ def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArr
     segs = net.edge_segments()
     first = snap_end(pts, snap, segs)
     if first is not None:
-        j, eid, t, p = first
+        j, _, _, p = first
         pts = np.vstack([p, pts[j + 1:]])
     last = snap_end(pts[::-1], snap, segs)
     if last is not None:
-        j, eid2, t2, p2 = last
+        j, _, _, p2 = last
         pts = np.vstack([pts[: len(pts) - 1 - j], p2])
     if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9:
         raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
