@@ -60,6 +60,9 @@ class StrokeRecord:
 
 @dataclass
 class _Work:
+    """What add_stroke has done so far, for its record: per straight piece its pre-image ends (2, 2),
+    curve id, end kinds and end offsets; the ids of the earlier curves pulled to the stroke."""
+
     pre_image: list = field(default_factory=list)
     curve_ids: list = field(default_factory=list)
     pulled: set = field(default_factory=set)
