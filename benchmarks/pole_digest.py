@@ -23,7 +23,11 @@ def _collect(checkout: Path, real: bool) -> dict:
     sys.path.append("/usr/lib/freecad-python3/lib")
     import numpy as np
     import FreeCAD  # noqa: F401  (before Part)
-    # after FreeCAD: importing it puts the user Mod folders (where install.sh links a checkout) first
+
+    # FreeCAD's import puts its user Mod folder first on sys.path; when that links another
+    # checkout, its ProgSurf would be the one measured (as tests/conftest.py, put ours back first)
+    while str(checkout) in sys.path:
+        sys.path.remove(str(checkout))
     sys.path.insert(0, str(checkout))
     from ProgSurf.core import pipeline
     from ProgSurf import cad

@@ -33,6 +33,11 @@ class StrokeRejectedError(ProgSurfError):
     """An interior stroke cannot be added for another stated reason."""
 
 
+class StrokeRunsAlongCurveError(StrokeRejectedError):
+    """The pre-image of an interior stroke (or of one of its straight pieces) would run along an
+    existing curve. A stroke split into several straight pieces is then tried as one piece."""
+
+
 class FitError(ProgSurfError):
     """OCC could not fit a B-spline curve or face within tolerance."""
 

@@ -202,7 +202,7 @@ def test_one_point_stroke_is_rejected_with_a_reason():
 # ------------------------------------------------------------------ strokes through (nearly) one point
 def node_spacing(net: PatchNetwork) -> float:
     """The smallest distance between two nodes in the pre-image plane."""
-    uv = np.array([net.node_uv(n) for n in net._nodes])
+    uv = np.array([net.node_uv(n) for n in net.node_ids])
     d = np.linalg.norm(uv[:, None] - uv[None], axis=2)
     return float(d[~np.eye(len(uv), dtype=bool)].min())
 
@@ -230,7 +230,7 @@ def test_random_sketch_12_three_strokes_near_one_point_meet_at_one_node():
     net = r.network
     assert node_spacing(net) > 0.05
     assert smallest_area(net) > 1e-2
-    meeting = [n for n in net._nodes if {c for x in r.records[4:] for c in x.curve_ids} <= curves_at(net, n)]
+    meeting = [n for n in net.node_ids if {c for x in r.records[4:] for c in x.curve_ids} <= curves_at(net, n)]
     assert len(meeting) == 1
     assert len(net) == 6
 
@@ -248,7 +248,7 @@ def test_three_strokes_nearly_through_one_point_meet_at_one_node(curved):
         rec = add_stroke(net, pts, 4 + k, TOL, snap=1.0)
         assert rec.status == "accepted", rec.reason
         check_invariants(net, rec, 1.0)
-    centre = [n for n in net._nodes if np.linalg.norm(net.node_uv(n) - 0.5) < 0.01]
+    centre = [n for n in net.node_ids if np.linalg.norm(net.node_uv(n) - 0.5) < 0.01]
     assert len(centre) == 1 and curves_at(net, centre[0]) == {4, 5, 6}
     assert len(net) == 6                   # four quadrants, two of them cut into triangles
     assert node_spacing(net) > 0.05 and smallest_area(net) > 0.05
@@ -293,7 +293,7 @@ def test_stroke_within_reach_of_two_joined_nodes_goes_through_one_of_them():
     rec = add_stroke(net, line((-0.5, 47.87, 0), (100.5, 53.93, 0), 40), 7, TOL, snap=2.0)
     assert rec.status == "accepted", rec.reason
     check_invariants(net, rec, 2.0)
-    left = [n for n in net._nodes if np.allclose(net.node_uv(n), [0.4, 0.5], atol=0.01)]
+    left = [n for n in net.node_ids if np.allclose(net.node_uv(n), [0.4, 0.5], atol=0.01)]
     assert len(left) == 1 and curves_at(net, left[0]) == {4, 6, 7}
     assert node_spacing(net) >= 0.01 and smallest_area(net) > 1e-3
 

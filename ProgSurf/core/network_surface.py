@@ -1,0 +1,219 @@
+"""Surface queries of the pre-image plane network (Qin & Wright section 3).
+
+Holds what the network answers about its surface: the Coons sub-patch of a region (Eq. 1) and
+its points at local (s, r) or at pre-image points (u, v), the region that contains a pre-image
+point, the re-parameterised mesh of a sub-patch (step (4) "re-parameterisation"), and the
+triangulated surface and footpoint search of step (6) (motion-sketch text, Eq. 2: the pre-image
+(u_f, v_f) of a point Q off the surface). :class:`NetworkSurface` is the part of
+:class:`~ProgSurf.core.network.PatchNetwork` that answers them.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from .coons import CoonsPatch
+from .footpoint import Facets, Footpoint, footpoint, prepare, real_footpoint
+from .network_views import pruned
+from .preimage import bilinear, cross2, inverse_bilinear
+from .types import FloatArray, Polyline
+
+NEAR_REGIONS = 4
+"""Footpoints are first searched in this many regions nearest (by bounding box) to the point."""
+
+
+@lru_cache(maxsize=8)
+def _grid_triangles(n: int) -> tuple:
+    """The two triangles of each cell of an (n+1) x (n+1) grid, as index pairs of their corners."""
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    return (((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j + 1), (i, j + 1), (i + 1, j)))
+
+
+class _FacetPart:
+    """One region's piece of the footpoint facets: (xyz (F,3,3), uv (F,3,2), solver, owner (F,),
+    bounding box (2,3)) by index, as a tuple would be. The box comes from the evaluated grid at
+    once; the triangles and their Eq. 2 inverses only when first asked for (a footpoint search
+    reads the boxes of every region but the facets of the few near the point)."""
+
+    __slots__ = ("rid", "grid_xyz", "grid_uv", "box", "_full")
+
+    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray) -> None:
+        self.rid, self.grid_xyz, self.grid_uv = rid, grid_xyz, grid_uv
+        flat = grid_xyz.reshape(-1, 3)
+        self.box = np.stack([flat.min(axis=0), flat.max(axis=0)])
+        self._full = None
+
+    def __getitem__(self, k: int):
+        if k == 4:
+            return self.box
+        if self._full is None:
+            tris = _grid_triangles(self.grid_xyz.shape[0] - 1)
+            p, q = self.grid_xyz, self.grid_uv
+            fx = np.concatenate([np.stack([p[a, b] for a, b in t], axis=1) for t in tris])
+            fu = np.concatenate([np.stack([q[a, b] for a, b in t], axis=1) for t in tris])
+            self._full = (fx, fu, prepare(fx), np.full(len(fx), self.rid))
+        return self._full[k]
+
+
+def _join_parts(parts: list) -> Facets:
+    """Facets of per-region pieces (NetworkSurface._facet_parts), joined in the given order."""
+    return Facets(np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
+                  np.concatenate([p[3] for p in parts]),
+                  tuple(np.concatenate([p[2][k] for p in parts]) for k in range(3)))
+
+
+class NetworkSurface:
+    """The surface queries of :class:`~ProgSurf.core.network.PatchNetwork` (mixed into it): reads
+    its records ``_nodes``, ``_regions``, its views (region, region_corners, region_polygon),
+    fills its per-region ``_patches`` and ``_facets`` (dropped by the edits that change a region)
+    and keeps the rest in its ``_view_cache``."""
+
+    def patch(self, rid: int) -> CoonsPatch:
+        """The Coons sub-patch (Eq. 1) of region rid in its local (s, r)."""
+        if rid not in self._patches:
+            view = self.region(rid)
+            b, r, t, l = (s.polyline for s in view.sides)
+            self._patches[rid] = (CoonsPatch(b.evaluate, r.evaluate, t.evaluate, l.evaluate), view)
+        return self._patches[rid][0]
+
+    def evaluate_region(self, rid: int, s: FloatArray | float, r: FloatArray | float) -> FloatArray:
+        """3D points of region rid's Coons sub-patch at local (s, r) in [0,1]^2; (..., 3)."""
+        return self.patch(rid).evaluate(s, r)
+
+    def local_to_uv(self, rid: int, s: FloatArray | float, r: FloatArray | float) -> FloatArray:
+        """Pre-image points (..., 2) of region rid's local (s, r): the bilinear map of its corners."""
+        (c0, c1, c2, c3), _ = self.region_corners(rid)
+        corners = np.array([self._nodes[n].uv for n in (c0, c1, c2, c3)])
+        return bilinear(corners, s, r)
+
+    def uv_to_local(self, rid: int, uv: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Local (s, r) of pre-image points uv (k, 2) in region rid: the inverse of local_to_uv."""
+        ids, tri = self.region_corners(rid)
+        corners = np.array([self._nodes[n].uv for n in ids])
+        return inverse_bilinear(corners, np.atleast_2d(uv), tri)
+
+    def _locator(self) -> tuple:
+        """All region edges as half-planes, (start (E,2), direction (E,2), 1/length (E,)), with
+        the region id and offset of each region's run: rebuilt only when a region changed."""
+        cache = self._view_cache
+        key = tuple(self._regions.items())
+        if cache.locator is not None and cache.locator[0] == key:
+            return cache.locator[1]
+        starts, dirs, owners, offsets = [], [], [], []
+        count = 0
+        polys = cache.polygons = pruned(cache.polygons, self._regions)
+        for rid, reg in self._regions.items():
+            c = polys.get(rid)
+            if c is None or c[0] is not reg:      # region records are replaced when they change
+                poly = self.region_polygon(rid)
+                c = (reg, poly, np.concatenate([poly[1:], poly[:1]]) - poly)
+                polys[rid] = c
+            starts.append(c[1])
+            dirs.append(c[2])
+            owners.append(rid)
+            offsets.append(count)
+            count += len(c[1])
+        a = np.concatenate(starts)
+        d = np.concatenate(dirs)
+        inv = 1.0 / np.maximum(np.linalg.norm(d, axis=1), 1e-300)
+        value = (a, d, inv, np.array(owners), np.array(offsets))
+        cache.locator = (key, value)
+        return value
+
+    def locate(self, uv: FloatArray) -> int:
+        """Id of the region whose polygon contains the pre-image point uv (2,) (the nearest one
+        for a point just outside every polygon)."""
+        return int(self.locate_many(np.reshape(uv, (1, 2)))[0])
+
+    def locate_many(self, uv: FloatArray) -> np.ndarray:
+        """locate() for points uv (k, 2) at once: region ids (k,)."""
+        uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
+        a, d, inv, owners, offsets = self._locator()
+        side = cross2(d[None, :, :], uv[:, None, :] - a[None, :, :]) * inv[None, :]
+        depth = np.minimum.reduceat(side, offsets, axis=1)
+        inside = depth >= 0
+        pick = np.where(inside.any(axis=1), np.argmax(inside, axis=1), np.argmax(depth, axis=1))
+        return owners[pick]
+
+    def evaluate_uv(self, uv: FloatArray) -> FloatArray:
+        """3D points of the surface at pre-image points uv (k, 2) (or (2,)); (k, 3) or (3,)."""
+        uv = np.asarray(uv, dtype=float)
+        single = uv.ndim == 1
+        uv2 = np.atleast_2d(uv)
+        rids = self.locate_many(uv2)
+        out = np.empty((len(uv2), 3))
+        for rid in np.unique(rids):
+            mask = rids == rid
+            s, r = self.uv_to_local(int(rid), uv2[mask])
+            out[mask] = self.evaluate_region(int(rid), s, r)
+        return out[0] if single else out
+
+    def region_grid(self, rid: int, n: int | None = None) -> tuple[FloatArray, FloatArray]:
+        """A re-parameterised mesh of the sub-patch: local (s, r) samples that include the side
+        parameters of both opposite sides (so opposite sides have equal point counts, paper
+        step 4 "re-parameterisation"), thinned to at most 4*n values; returns (s, r) 1-D arrays."""
+        n = n or self.mesh_density
+        view = self.region(rid)
+
+        def merged(a: Polyline, b: Polyline) -> FloatArray:
+            vals = np.unique(np.concatenate([a.params, b.params, np.linspace(0, 1, n + 1)]))
+            if len(vals) > 4 * n:
+                vals = np.unique(np.concatenate([vals[:: int(np.ceil(len(vals) / (4 * n)))], [1.0]]))
+            return vals
+
+        return (merged(view.sides[0].polyline, view.sides[2].polyline),
+                merged(view.sides[1].polyline, view.sides[3].polyline))
+
+    def _facet_parts(self) -> list:
+        """Per-region facet pieces in region order, (xyz, uv, solver, owner, bounding box); cached
+        per region and rebuilt only for regions a stroke changed."""
+        missing = [rid for rid in self._regions if rid not in self._facets]
+        if missing:
+            n = self.mesh_density
+            g = np.linspace(0.0, 1.0, n + 1)
+            ss, rr = np.meshgrid(g, g, indexing="ij")
+            for rid in missing:
+                self._facets[rid] = _FacetPart(rid, self.evaluate_region(rid, ss, rr),
+                                               self.local_to_uv(rid, ss, rr))
+        return [self._facets[rid] for rid in self._regions]
+
+    def facets(self) -> Facets:
+        """The triangulated surface used for footpoints (Eq. 2): every region's piece, joined
+        (the join is kept until a region changes)."""
+        key = tuple(self._regions)
+        parts = self._facet_parts()
+        joined = self._view_cache.joined
+        if joined is not None and joined[0] == key and all(a is b for a, b in zip(parts, joined[1])):
+            return joined[2]
+        facets = _join_parts(parts)
+        self._view_cache.joined = (key, parts, facets)
+        return facets
+
+    def footpoint(self, q: FloatArray, slack: float = 0.0) -> Footpoint:
+        """Footpoint of q on the current surface (Eq. 2). The nearest real footpoint is searched
+        only among regions whose bounding box can hold one nearer than the best of the nearest
+        few regions (same result as searching every facet, in the same order); only when those
+        have none is every facet searched."""
+        q = np.asarray(q, dtype=float)
+        parts = self._facet_parts()
+        boxes = self._boxes(parts)
+        gap = np.linalg.norm(np.maximum(0.0, np.maximum(boxes[:, 0] - q, q - boxes[:, 1])), axis=1)
+        near = np.sort(np.argsort(gap, kind="stable")[:NEAR_REGIONS])
+        found = real_footpoint(q, _join_parts([parts[i] for i in near]), slack)
+        if found is not None:
+            reach = np.flatnonzero(gap <= abs(found.distance) + slack + 1e-9)
+            if not set(reach.tolist()) <= set(near.tolist()):
+                found = real_footpoint(q, _join_parts([parts[i] for i in reach]), slack)
+            return found
+        return footpoint(q, self.facets(), slack)
+
+    def _boxes(self, parts: list) -> FloatArray:
+        """(R, 2, 3) bounding boxes (min, max) of the regions' facets, kept while the parts are."""
+        cached = self._view_cache.boxes
+        if cached is not None and len(cached[0]) == len(parts) and all(a is b for a, b in zip(cached[0], parts)):
+            return cached[1]
+        boxes = np.stack([p[4] for p in parts])
+        self._view_cache.boxes = (parts, boxes)
+        return boxes

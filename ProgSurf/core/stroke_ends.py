@@ -1,0 +1,145 @@
+"""The ends of an interior stroke in the progressive update (Qin & Wright section 3).
+
+Holds where each end of a stroke goes on the current network: step (2), an end on or crossing a
+boundary curve snaps to it and the over-sketched part is trimmed; step (6), a free end is placed
+at its footpoint F on the surface (motion-sketch text, Eq. 2), keeping its offset Q - F; steps
+(7)-(8), the pre-image is extended from F to the boundary g of its region and the offset is
+distributed from F to g.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .errors import StrokeOutsideSurfaceError, StrokeRejectedError
+from .network import EdgeSegments, PatchNetwork
+from .preimage import ray_exit
+from .strokes import cumulative_length
+from .types import FloatArray
+
+Snap = tuple
+"""Where an end snapped (see :func:`snap_end`): (j, edge id, t, point), the stroke point index j,
+the edge parameter t and the point (3,) on the edge."""
+
+
+@dataclass
+class StrokeEnd:
+    """One end of a straight piece: on an edge (snapped) or free at a footpoint.
+
+    uv     : (2,) its pre-image
+    xyz    : (3,) its 3D point (the stroke's own point Q for a free end)
+    snapped: on an edge (step 2) or free (step 6)
+    edge, t: the edge it snapped to and the parameter there (-1, 0 for a free end)
+    offset : |Q - F| of a free end (0 for a snapped one)
+    region : the region of its footpoint (-1 for a snapped end)
+    """
+
+    uv: FloatArray
+    xyz: FloatArray
+    snapped: bool
+    edge: int = -1
+    t: float = 0.0
+    offset: float = 0.0
+    region: int = -1
+
+
+def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]:
+    """Step (2): is the first end of pts on or crossing a boundary curve?
+
+    Tests the distance from the points of the first half of the stroke to every current boundary
+    (outer sides, earlier strokes). Over-sketch past an outer side may be any length; past an
+    interior curve it may be at most max(2 snap, 15% of the stroke), so a stroke that truly
+    crosses an earlier one is not cut there. Returns (j, edge id, t, point) or None."""
+    a, b, eid, t0, t1, outer = segs
+    h = max(1, len(pts) // 2)
+    p = pts[:h]
+    ab = b - a
+    ll = np.einsum("ij,ij->i", ab, ab)
+    w = np.einsum("hsk,sk->hs", p[:, None, :] - a[None], ab) / np.where(ll > 1e-300, ll, 1.0)
+    w = np.clip(w, 0.0, 1.0)
+    close = a[None] + w[..., None] * ab[None]
+    d = np.linalg.norm(p[:, None, :] - close, axis=2)
+    run = cumulative_length(pts)
+    limit = max(2.0 * snap, 0.15 * run[-1])
+    allowed = outer[None, :] | (run[:h, None] <= limit)
+    d = np.where(allowed, d, np.inf)
+    j, s = np.unravel_index(int(np.argmin(d)), d.shape)
+    if not d[j, s] < snap:
+        return None
+    t = t0[s] + w[j, s] * (t1[s] - t0[s])
+    return int(j), int(eid[s]), float(t), close[j, s]
+
+
+def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArray, Optional[Snap], Optional[Snap]]:
+    """Step (2) at both ends of pts (n, 3): each end that is on or crosses a boundary is cut
+    where it meets it. Returns the trimmed points (first and last point on the boundary when
+    snapped) and the snaps of the first and last end (None for a free end)."""
+    segs = net.edge_segments()
+    first = snap_end(pts, snap, segs)
+    if first is not None:
+        j, _, _, p = first
+        pts = np.vstack([p, pts[j + 1:]])
+    last = snap_end(pts[::-1], snap, segs)
+    if last is not None:
+        j, _, _, p2 = last
+        pts = np.vstack([pts[: len(pts) - 1 - j], p2])
+    if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9:
+        raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
+    return pts, first, last
+
+
+def free_end(net: PatchNetwork, q: FloatArray, which: str, snap: float) -> StrokeEnd:
+    """Step (6): the footpoint of a free end (Eq. 2); reject when it projects outside."""
+    f = net.footpoint(q, slack=snap)
+    if not f.inside:
+        raise StrokeOutsideSurfaceError(
+            f"its {which} end ({q[0]:.1f}, {q[1]:.1f}, {q[2]:.1f}) projects outside the surface "
+            f"(nearest surface point is on the outer boundary, {abs(f.distance):.2f} mm away); "
+            "draw interior strokes over the surface")
+    return StrokeEnd(uv=f.uv, xyz=q, snapped=False, offset=float(abs(f.distance)), region=f.region)
+
+
+def snapped_end(net: PatchNetwork, snapped: Snap) -> StrokeEnd:
+    """The end found by :func:`snap_end`, on edge e at parameter t, as a StrokeEnd."""
+    _, e, t, p = snapped
+    ev = net.edges()[e]
+    return StrokeEnd(uv=ev.uv0 + t * (ev.uv1 - ev.uv0), xyz=p, snapped=True, edge=e, t=t)
+
+
+def end_of(net: PatchNetwork, snapped: Optional[Snap], q: FloatArray, which: str, snap: float) -> StrokeEnd:
+    """The end at point q (3,): on its boundary when it snapped (step 2), else free (step 6)."""
+    if snapped is None:
+        return free_end(net, q, which, snap)
+    return snapped_end(net, snapped)
+
+
+def placed_end(net: PatchNetwork, pts: FloatArray, snap: float, which: str) -> StrokeEnd:
+    """The end pts[0] on the current network: snapped when it is on a boundary, else free."""
+    snapped = snap_end(pts, snap, net.edge_segments())
+    if snapped is not None and snapped[0] == 0:
+        return snapped_end(net, snapped)
+    return free_end(net, pts[0], which, snap)
+
+
+def extension(net: PatchNetwork, end: StrokeEnd, away: FloatArray, falloff: str) -> tuple[FloatArray, FloatArray]:
+    """Steps (7)-(8): extend the pre-image from the footpoint F away from the stroke to the
+    boundary g of the region it is in; the 3D points are the surface plus the offset Q - F,
+    distributed evenly (linear) or smoothly (cubic) from F to g. Returns (uv (k,2), xyz (k,3)),
+    from F (exclusive) to g (inclusive)."""
+    norm = float(np.linalg.norm(away))
+    if not norm > 1e-12:
+        return np.empty((0, 2)), np.empty((0, 3))
+    direction = away / norm
+    rid = net.locate(end.uv)
+    length = min(ray_exit(end.uv, direction, net.region_polygon(rid)), np.sqrt(2.0))
+    if not length > 1e-9:
+        return np.empty((0, 2)), np.empty((0, 3))
+    k = max(4, int(np.ceil(length * 4 * net.mesh_density)))
+    w = np.linspace(0.0, 1.0, k + 1)[1:]
+    uv = end.uv + np.outer(w * length, direction)
+    surface = net.evaluate_uv(uv)
+    delta = end.xyz - net.evaluate_uv(end.uv)
+    fall = 1.0 - w if falloff == "linear" else 2 * w**3 - 3 * w**2 + 1
+    return uv, surface + fall[:, None] * delta
