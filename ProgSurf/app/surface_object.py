@@ -77,7 +77,7 @@ class SurfaceProxy(FeatureProxy):
                  defaults.filter_mm),
                 ("SnapTolerance", "Snap distance of stroke ends to boundaries in mm (0 = auto)",
                  defaults.snap_mm),
-                ("FitTolerance", "How far a B-spline face may lie from its Coons sub-patch (mm)",
+                ("FitTolerance", "How far a B-spline face may lie from its Coons sub-patch in mm (0 = auto)",
                  defaults.fit_mm)):
             if name not in obj.PropertiesList:
                 obj.addProperty("App::PropertyFloat", name, "Tolerances", doc)
@@ -106,7 +106,7 @@ class SurfaceProxy(FeatureProxy):
         """The object's tolerances as the core's one Tolerances value (0 -> automatic)."""
         return Tolerances(filter_mm=obj.FilterThreshold or None,
                           snap_mm=obj.SnapTolerance or None,
-                          fit_mm=obj.FitTolerance if obj.FitTolerance > 0 else 0.01)
+                          fit_mm=obj.FitTolerance or None)
 
     def execute(self, obj) -> None:
         from ProgSurf.app import build  # heavy: pipeline + cad, loaded on first recompute
