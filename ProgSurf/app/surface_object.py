@@ -40,6 +40,8 @@ RESULTS = (
     ("App::PropertyFloat", "StrokeDeviationMax", "Largest deviation of an accepted stroke (mm)"),
     ("App::PropertyFloat", "FitDeviation", "Largest distance of a face from its Coons sub-patch"),
     ("App::PropertyString", "LastError", "Why the last recompute failed (empty when it worked)"),
+    ("App::PropertyString", "Quality",
+     "The last build's quality checks (folds, fit tolerance): 'quality: ok' or a warning saying why"),
 )
 
 
@@ -146,6 +148,9 @@ class SurfaceProxy(FeatureProxy):
         obj.StrokeDeviation = list(outcome.analysis.stroke_deviation_mm)
         obj.StrokeDeviationMax = max([d for d in obj.StrokeDeviation if d >= 0] or [0.0])
         obj.FitDeviation = outcome.analysis.fit_deviation_mm
+        obj.Quality = outcome.analysis.verdict()
+        if outcome.analysis.problems:
+            FreeCAD.Console.PrintWarning(f"ProgSurf: {obj.Label}: {obj.Quality}\n")
         obj.LastError = ""
 
     def memory(self) -> tuple:
