@@ -7,6 +7,9 @@ A fold is what a designer sees as a fin, a tuck or an inverted face that no stro
 - a face fold: inside one region, a normal more than ``FACE_TURN_DEG`` from the region's mean
   normal (the face turns over on itself).
 
+The built faces are checked at 60 and 90 deg (cad.analysis.folds); the network is held 5 deg
+inside those, since the B-spline faces follow the polyline sub-patches only within the fit.
+
 Normals come from central differences of the sub-patch (Eq. 1) in its local (s, r); a sample where
 a derivative vanishes (the collapsed side of a 3-sided region) has no normal and is skipped.
 Both sub-patches of a seam are parameterised from the same pre-image plane, so their normals are
@@ -21,8 +24,8 @@ import numpy as np
 
 from .types import FloatArray
 
-SEAM_FOLD_DEG = 60.0
-FACE_TURN_DEG = 90.0
+SEAM_FOLD_DEG = 55.0
+FACE_TURN_DEG = 85.0
 SEAM_SAMPLES = 9
 FACE_SAMPLES = 9
 _STEP = 1e-4
