@@ -20,10 +20,10 @@ import time
 from typing import Optional, Sequence
 
 from .core.errors import FitError, ProgSurfError
-from .core.types import Tolerances
+from .core.types import FIT_FRACTION, Tolerances
 from .io.c3d import MIN_DURATION_S, MIN_LENGTH_MM
 
-EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_QUALITY = 0, 1, 2, 3
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -42,8 +42,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="the first N strokes are the boundary (default: classify automatically)")
     b.add_argument("--filter", type=float, metavar="MM", help="stroke filter distance (default: automatic)")
     b.add_argument("--snap", type=float, metavar="MM", help="snap distance of stroke ends (default: automatic)")
-    b.add_argument("--fit-tol", type=float, default=Tolerances().fit_mm, metavar="MM",
-                   help="largest distance of a B-spline face from its Coons sub-patch (default %(default)s)")
+    b.add_argument("--fit-tol", type=float, metavar="MM",
+                   help="largest distance of a B-spline face from its Coons sub-patch (default: automatic, "
+                        f"{FIT_FRACTION:g} of the sketch's diagonal)")
     b.add_argument("--skin", action="store_true",
                    help="also write OUT_skin.step: one B-spline surface skinned across all patches")
     b.add_argument("--continuity", choices=["G0", "G1"], default="G0",
@@ -210,17 +211,23 @@ def summary(report: dict) -> str:
     lines += [f"  stroke {s['index']} ({s['role']}) rejected: {s['reason']}" for s in strokes
               if s["status"] == "rejected"]
     lines.append("wrote " + ", ".join(report["outputs"].values()))
+    if "quality" in report:
+        lines.append(report["quality"]["verdict"])
     return "\n".join(lines)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     args = _parser().parse_args(argv)
     try:
-        run_build(args)
+        report = run_build(args)
     except ProgSurfError as exc:
         sys.stderr.write(f"progsurf: error: {' '.join(str(exc).split())}\n")
         return EXIT_FAILED if isinstance(exc, FitError) else EXIT_BAD_INPUT
     except OSError as exc:
         sys.stderr.write(f"progsurf: error: {exc.strerror or exc}: {exc.filename or ''}\n")
         return EXIT_BAD_INPUT
+    if not report.get("quality", {}).get("ok", True):
+        if args.quiet:      # the verdict is part of the summary; quiet still names the problem
+            sys.stderr.write(f"progsurf: {report['quality']['verdict']}\n")
+        return EXIT_QUALITY
     return EXIT_OK

@@ -72,6 +72,8 @@ class Analysis:
     faces              : the cad layer's FaceInfo per region (surfaces, for projections)
     fit_deviation_by_region : region id -> largest distance of its face from its Coons sub-patch
     report             : ReportMeasures, or None when no report was asked for
+    folds              : cad.analysis.Fold per fold of the built faces (seams creased, faces turned over)
+    fit_tolerance_mm   : the fit tolerance the faces were built to
     """
 
     seam_gap_mm: float
@@ -83,6 +85,33 @@ class Analysis:
     faces: tuple = ()
     fit_deviation_by_region: Mapping = field(default_factory=dict)
     report: Optional[ReportMeasures] = None
+    folds: tuple = ()
+    fit_tolerance_mm: float = 0.0
+
+    @property
+    def fit_over(self) -> dict:
+        """region id -> fit deviation of the faces that lie further from their Coons sub-patch
+        than the fit tolerance."""
+        return {rid: d for rid, d in self.fit_deviation_by_region.items() if d > self.fit_tolerance_mm}
+
+    @property
+    def problems(self) -> list[str]:
+        """What fails the quality checks, one short phrase each; empty when the build is sound."""
+        out = [f.describe() for f in self.folds]
+        over = self.fit_over
+        if over:
+            rid = max(over, key=over.get)
+            out.append(f"{len(over)} face(s) lie further from their Coons sub-patch than the fit tolerance "
+                       f"{self.fit_tolerance_mm:.3g} mm (region {rid}: {over[rid]:.3g} mm)")
+        return out
+
+    def verdict(self) -> str:
+        """One line: "quality: ok" or "quality: WARNING ..." naming the first problems."""
+        problems = self.problems
+        if not problems:
+            return "quality: ok (no fold; every face within the fit tolerance)"
+        more = f" (and {len(problems) - 2} more)" if len(problems) > 2 else ""
+        return f"quality: WARNING {len(problems)} problem(s): " + "; ".join(problems[:2]) + more
 
     @property
     def stroke_deviation_by_index(self) -> dict:
@@ -176,7 +205,9 @@ def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
         region_of_face=_region_of_faces(shell.shape, shell.faces),
         faces=tuple(shell.faces),
         fit_deviation_by_region=fit,
-        report=_report_measures(shell, result.network) if report else None)
+        report=_report_measures(shell, result.network) if report else None,
+        folds=tuple(cad_analysis.folds(shell)),
+        fit_tolerance_mm=float(result.tol.fit_mm))
 
 
 def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",
@@ -249,8 +280,17 @@ def build_report(outcome: Outcome, *, inputs: Sequence[str], outputs: Mapping, t
         timings_s=timings_s, inputs=list(inputs), outputs=outputs,
         tolerances={"filter_mm": result.tol.filter_mm, "snap_mm": result.tol.snap_mm,
                     "fit_mm": result.tol.fit_mm},
-        shell=measures.shell, extra=dict(extra, **continuity_section(
+        shell=measures.shell, extra=dict(extra, quality=quality_section(analysis), **continuity_section(
             shell.continuity, measures.g1_seams, measures.g0_seams, shell.timings_s.get("g1"))))
+
+
+def quality_section(analysis: Analysis) -> dict:
+    """The report's quality checks: folds, faces over the fit tolerance, and the verdict line."""
+    return {"ok": not analysis.problems, "verdict": analysis.verdict(),
+            "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions),
+                       "edge": f.edge_id} for f in analysis.folds],
+            "fit_tolerance_mm": analysis.fit_tolerance_mm,
+            "faces_over_fit_tolerance": {str(k): v for k, v in analysis.fit_over.items()}}
 
 
 def face_values(surface, mode: str) -> Optional[list]:

@@ -1,7 +1,7 @@
 """Default tolerances stored in FreeCAD's parameter tree (the preferences page edits them).
 
-Group: ``User parameter:BaseApp/Preferences/Mod/ProgSurf``. A value of 0 for FilterThreshold
-or SnapTolerance means "automatic" (the pipeline chooses from the sketch size).
+Group: ``User parameter:BaseApp/Preferences/Mod/ProgSurf``. A value of 0 for FilterThreshold,
+SnapTolerance or FitTolerance means "automatic" (the pipeline chooses from the sketch size).
 """
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ import FreeCAD
 
 PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/ProgSurf"
 
-DEFAULTS = {"FilterThreshold": 0.0, "SnapTolerance": 0.0, "FitTolerance": 0.01}
-"""Float defaults in mm; 0 = automatic (filter, snap)."""
+DEFAULTS = {"FilterThreshold": 0.0, "SnapTolerance": 0.0, "FitTolerance": 0.0}
+"""Float defaults in mm; 0 = automatic (relative to the sketch's size)."""
 
 DEFAULT_SAMPLES = 101
 """Points per stroke taken from a sketch chain or edges (the StrokeSamples parameter)."""
@@ -20,7 +20,7 @@ DEFAULT_SAMPLES = 101
 
 @dataclass(frozen=True)
 class DefaultTolerances:
-    """The user's default tolerances in mm (0 = automatic for filter and snap)."""
+    """The user's default tolerances in mm (0 = automatic)."""
 
     filter_mm: float
     snap_mm: float
@@ -35,6 +35,6 @@ def default_tolerances() -> DefaultTolerances:
     return DefaultTolerances(
         filter_mm=max(0.0, grp.GetFloat("FilterThreshold", DEFAULTS["FilterThreshold"])),
         snap_mm=max(0.0, grp.GetFloat("SnapTolerance", DEFAULTS["SnapTolerance"])),
-        fit_mm=fit if fit > 0.0 else DEFAULTS["FitTolerance"],
+        fit_mm=max(0.0, fit),
         samples=max(2, grp.GetInt("StrokeSamples", DEFAULT_SAMPLES)),
     )

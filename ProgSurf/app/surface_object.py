@@ -40,6 +40,8 @@ RESULTS = (
     ("App::PropertyFloat", "StrokeDeviationMax", "Largest deviation of an accepted stroke (mm)"),
     ("App::PropertyFloat", "FitDeviation", "Largest distance of a face from its Coons sub-patch"),
     ("App::PropertyString", "LastError", "Why the last recompute failed (empty when it worked)"),
+    ("App::PropertyString", "Quality",
+     "The last build's quality checks (folds, fit tolerance): 'quality: ok' or a warning saying why"),
 )
 
 
@@ -77,7 +79,7 @@ class SurfaceProxy(FeatureProxy):
                  defaults.filter_mm),
                 ("SnapTolerance", "Snap distance of stroke ends to boundaries in mm (0 = auto)",
                  defaults.snap_mm),
-                ("FitTolerance", "How far a B-spline face may lie from its Coons sub-patch (mm)",
+                ("FitTolerance", "How far a B-spline face may lie from its Coons sub-patch in mm (0 = auto)",
                  defaults.fit_mm)):
             if name not in obj.PropertiesList:
                 obj.addProperty("App::PropertyFloat", name, "Tolerances", doc)
@@ -106,7 +108,7 @@ class SurfaceProxy(FeatureProxy):
         """The object's tolerances as the core's one Tolerances value (0 -> automatic)."""
         return Tolerances(filter_mm=obj.FilterThreshold or None,
                           snap_mm=obj.SnapTolerance or None,
-                          fit_mm=obj.FitTolerance if obj.FitTolerance > 0 else 0.01)
+                          fit_mm=obj.FitTolerance or None)
 
     def execute(self, obj) -> None:
         from ProgSurf.app import build  # heavy: pipeline + cad, loaded on first recompute
@@ -146,6 +148,9 @@ class SurfaceProxy(FeatureProxy):
         obj.StrokeDeviation = list(outcome.analysis.stroke_deviation_mm)
         obj.StrokeDeviationMax = max([d for d in obj.StrokeDeviation if d >= 0] or [0.0])
         obj.FitDeviation = outcome.analysis.fit_deviation_mm
+        obj.Quality = outcome.analysis.verdict()
+        if outcome.analysis.problems:
+            FreeCAD.Console.PrintWarning(f"ProgSurf: {obj.Label}: {obj.Quality}\n")
         obj.LastError = ""
 
     def memory(self) -> tuple:

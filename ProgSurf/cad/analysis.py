@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.bspline_surface import project_points
+from ..core.bspline_surface import project_points, unit_normals
 from ..core.types import FloatArray
 from ._occ import Part, Vector
 from .faces import unit_normal
@@ -313,3 +313,69 @@ def g0_view(result):
     if result.continuity != "G1":
         return result
     return replace(result, shape=None, faces=result.g0_faces, continuity="G0", g0_faces=())
+
+
+FOLD_SEAM_DEG = 60.0
+"""A seam whose two faces' normals differ by more than this away from its ends is a fold."""
+
+FOLD_FACE_DEG = 90.0
+"""A face with a normal more than this from its mean normal turns over on itself: a fold."""
+
+FOLD_SAMPLES = 9
+"""Points per seam (between 5 % and 95 % of it) and per side of a face's grid (3 % in from its
+sides) at which folds are looked for: the ends of a seam and the sides of a face are left out,
+where a 3-sided face's collapsed corner has no defined normal."""
+
+
+@dataclass(frozen=True)
+class Fold:
+    """One fold of a built surface: kind "seam" (the edge, the two regions) or "face" (the region)."""
+
+    kind: str
+    angle_deg: float
+    regions: tuple
+    edge_id: int = -1
+
+    def describe(self) -> str:
+        if self.kind == "seam":
+            return (f"faces of regions {self.regions[0]} and {self.regions[1]} meet at "
+                    f"{self.angle_deg:.0f} deg along edge {self.edge_id}")
+        return f"the face of region {self.regions[0]} turns over ({self.angle_deg:.0f} deg inside it)"
+
+
+def _face_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    data = info.derived
+    if data.plain:
+        ds, dr = data.derivatives.derivatives(s, r)
+    else:
+        ds = np.array([tuple(info.surface.getDN(float(a), float(b), 1, 0)) for a, b in zip(s, r)])
+        dr = np.array([tuple(info.surface.getDN(float(a), float(b), 0, 1)) for a, b in zip(s, r)])
+    return unit_normals(ds, dr)
+
+
+def folds(result) -> list[Fold]:
+    """Every fold of a ShellResult: seams whose faces' normals differ by more than FOLD_SEAM_DEG
+    between 5 % and 95 % of the seam (seams kept sharp on purpose, result.sharp_edges, excepted),
+    and faces with a normal more than FOLD_FACE_DEG from their mean normal."""
+    out = []
+    t = np.linspace(0.05, 0.95, FOLD_SAMPLES)
+    sharp = set(getattr(result, "sharp_edges", ()) or ())
+    for eid, uses in sorted(_edge_uses(result).items()):
+        if len(uses) != 2 or eid in sharp:
+            continue
+        _, angles = _seam_samples(uses[0], uses[1], t)
+        angles = angles[~np.isnan(angles)]
+        if len(angles) and angles.max() > FOLD_SEAM_DEG:
+            out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), eid))
+    g = np.linspace(0.03, 0.97, FOLD_SAMPLES)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    for info in result.faces:
+        normals, ok = _face_normals(info, s, r)
+        if ok.sum() < 3:
+            continue
+        mean = normals[ok].sum(axis=0)
+        size = float(np.linalg.norm(mean))
+        turn = 180.0 if size <= 1e-9 else float(np.degrees(np.arccos(np.clip(normals[ok] @ (mean / size), -1, 1))).max())
+        if turn > FOLD_FACE_DEG:
+            out.append(Fold("face", turn, (info.region_id,)))
+    return out

@@ -24,6 +24,8 @@ import numpy as np
 from ..core import continuity as g1
 from ..core.bspline import basis_matrix
 from ..core.bspline_surface import unit_normals
+from ..core.network import OUTER_CURVES
+from ..core.strokes import sketch_diagonal
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import to_array
@@ -36,6 +38,13 @@ END_KNOTS = (0.02, 0.98)
 FLUX_SAMPLES_PER_SPAN = 3
 SMOOTHING = 1e-7
 H = 1e-4
+OFFSET_FRACTION = 0.02
+"""G1 never makes a surface worse: a face's correction moves it by at most this fraction of the
+network's diagonal (a larger one is scaled down to it), so its distance from any target, the truth
+included, grows by no more than that over G0."""
+DISAGREE_DEG = 90.0
+"""Where the two G0 faces of a seam disagree by more than this (a fold), G1 leaves the seam as it
+is: aligning the normals by flipping one would turn the fold into a tangent fold."""
 SHARP_TAPER = 0.1
 """Part of a seam (edge parameter) next to a sharp node over which the G1 correction fades in."""
 
@@ -277,12 +286,14 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
         idx, t, normals = idx[ok], t[ok], normals[ok]
         cross = (dr_all if k in (0, 2) else ds_all)[idx]     # the derivative across side k
         taper = seams.taper(piece.edge_id, t)
-        target[idx] = g1.flux_correction(cross, normals) * taper[:, None]
+        na, nb, _, _ = seams._pairs(piece.edge_id, t, (info, ds_all[idx], dr_all[idx]))
+        agree = np.einsum("ij,ij->i", na, nb) >= np.cos(np.radians(DISAGREE_DEG))
+        target[idx] = g1.flux_correction(cross, normals) * (taper * agree)[:, None]
         weight[idx] = 1.0
     return target, weight
 
 
-def smooth_face(info, network, seams: _Seams) -> G1Face:
+def smooth_face(info, network, seams: _Seams, limit: float = np.inf) -> G1Face:
     """The G1 surface of one G0 FaceInfo (see the module docstring)."""
     refined = info.derived.refined
     ku, kv = refined.ku, refined.kv
@@ -337,6 +348,12 @@ def smooth_face(info, network, seams: _Seams) -> G1Face:
         bu = h1u if i == 1 else h2u
         bv = h1v if j == 1 else h2v
         delta -= bu[:, None, None] * bv[None, :, None] * t
+    if float(np.linalg.norm(delta, axis=-1).max()) > limit:    # the poles' bound; then the surface's
+        g = np.linspace(0.0, 1.0, 33)
+        moved = np.einsum("ui,ijk,vj->uvk", basis_matrix(ku, g), delta, basis_matrix(kv, g))
+        size = float(np.linalg.norm(moved, axis=-1).max())
+        if size > limit:    # bounded: G1 may leave a defect, never a large move (OFFSET_FRACTION)
+            delta = delta * (limit / size)
     poles = refined.poles + delta
     out = Part.BSplineSurface()
     out.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), *refined.mults_knots, False, False, 3, 3)
@@ -378,12 +395,14 @@ def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
     keep   : receives this call's {key: G1Face} (reused and new), for the next call."""
     sharp = g1.sharp_edges(network, angle_deg)
     seams = _Seams(infos, network, sharp)
+    outer = [e.polyline.points for e in network.edges().values() if e.curve_id in OUTER_CURVES]
+    limit = OFFSET_FRACTION * sketch_diagonal(np.vstack(outer)) if outer else np.inf
     out = []
     for info in infos:
         key = ("g1", _face_key(info, network, seams))
         face = lookup(key) if lookup is not None else None
         if face is None:
-            face = smooth_face(info, network, seams)
+            face = smooth_face(info, network, seams, limit)
         if keep is not None:
             keep[key] = face
         out.append(face)

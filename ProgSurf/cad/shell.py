@@ -20,8 +20,12 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 
+import numpy as np
+
 from ..core.errors import InvalidOptionError
-from ..core.types import Tolerances
+from ..core.network import OUTER_CURVES
+from ..core.strokes import sketch_diagonal
+from ..core.types import FIT_FRACTION, Tolerances
 from .edges import fit_edges
 from .patch_faces import coons_faces, g1_faces
 from .sewing import SewnShell, sew, sew_into, vertex_keys
@@ -116,6 +120,12 @@ class ShellResult:
     reused: dict = field(default_factory=dict, compare=False)
 
 
+def network_diagonal(network) -> float:
+    """The diagonal (core.strokes.sketch_diagonal) of the network's outer boundary curves."""
+    edges = network.edges().values()
+    return sketch_diagonal(np.vstack([e.polyline.points for e in edges if e.curve_id in OUTER_CURVES]))
+
+
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                 previous: "ShellResult | None" = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
@@ -130,6 +140,8 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
+    if tol.fit_mm is None:      # not resolved by the pipeline: relative to the network's size
+        tol = replace(tol, fit_mm=FIT_FRACTION * network_diagonal(network))
     t0 = time.perf_counter()
     last = previous.cache if previous is not None else ShellCache()
     cache = ShellCache(older=replace(last, older=None) if previous is not None else None)

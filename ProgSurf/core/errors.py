@@ -38,6 +38,11 @@ class StrokeRunsAlongCurveError(StrokeRejectedError):
     existing curve. A stroke split into several straight pieces is then tried as one piece."""
 
 
+class StrokeFoldsError(StrokeRejectedError):
+    """An interior stroke would fold the surface (core.folds): a crease or a turned-over face
+    that the sketch did not draw, still there after re-planning the regions (core.fold_repair)."""
+
+
 class FitError(ProgSurfError):
     """OCC could not fit a B-spline curve or face within tolerance."""
 

@@ -106,8 +106,9 @@ def _closest_on_triangles(q: FloatArray, tri: FloatArray) -> tuple[FloatArray, F
 
 
 def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint | None:
-    """The nearest real footpoint of q (3,) on the facets (Eq. 2): the one of smallest |d| among
-    facets whose projection of q falls inside them (within `slack` mm); None if there is none."""
+    """The nearest real footpoint of q (3,) on the facets (Eq. 2): among the facets whose
+    projection of q falls inside them (within `slack` mm), the nearest point of the nearest
+    facet; None if there is none."""
     q = np.asarray(q, dtype=float)
     tri = facets.xyz
     inv, good, edge_len = facets.solver if facets.solver is not None else prepare(tri)
@@ -119,13 +120,15 @@ def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoi
     if not np.any(real):
         return None
     idx = np.flatnonzero(real)
-    k = idx[np.argmin(np.abs(d[idx]))]
-    w = np.clip(np.array([1 - kr[k] - ks[k], kr[k], ks[k]]), 0.0, None)
-    w /= w.sum()
+    # Within the slack a facet's plane may pass near q far from the facet itself (on a curved
+    # surface a distant facet's plane can be nearer than the facet under q): rank the candidates
+    # by the distance to the nearest point of each facet, not to its plane.
+    w_all, dist_all = _closest_on_triangles(q, tri[idx])
+    pick = int(np.argmin(dist_all))
+    k = idx[pick]
+    w = w_all[pick]
     foot = w @ tri[k]
-    # Within the slack the footpoint may fall just outside its facet: clamp it onto the
-    # surface and measure the distance to the clamped point, sign of d kept.
-    dist = float(np.copysign(np.linalg.norm(q - foot), d[k]))
+    dist = float(np.copysign(dist_all[pick], d[k]))
     return Footpoint(xyz=foot, uv=w @ facets.uv[k], distance=dist, region=int(facets.region[k]), inside=True)
 
 

@@ -94,7 +94,7 @@ class PatchNetwork(NetworkViews, NetworkSurface):
         self._edge_index: dict[tuple, tuple] = {}
         self._patches: dict[int, tuple] = {}      # region id -> (CoonsPatch, RegionView)
         self._facets: dict[int, tuple] = {}       # region id -> (xyz, uv)
-        self._log: list = []                      # ("created"|"removed", region id) since last clear
+        self._log: list = []                      # ("created"|"removed"|"changed", region id) since last clear
         uv = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
         xyz = np.array([sides[0][0], sides[0][-1], sides[2][-1], sides[2][0]])
         c = [self._add_node(uv[k], xyz[k]) for k in range(4)]
@@ -188,6 +188,7 @@ class PatchNetwork(NetworkViews, NetworkSurface):
 
     def _dirty(self, rids) -> None:
         for rid in rids:
+            self._log.append(("changed", rid))
             self._patches.pop(rid, None)
             self._facets.pop(rid, None)
 

@@ -15,7 +15,7 @@ from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
 from .strokes import (auto_filter_threshold, filter_stroke, segment_projections, sketch_diagonal,
                       validate_stroke)
-from .types import Polyline, Tolerances
+from .types import FIT_FRACTION, Polyline, Tolerances
 
 SNAP_FRACTION = 0.02
 """Automatic snap distance: this fraction of the sketch's bounding-box diagonal (the paper ties
@@ -60,11 +60,12 @@ class BuildResult:
 
 
 def resolve_tolerances(strokes: Sequence[np.ndarray], tol: Tolerances) -> Tolerances:
-    """Fill in automatic filter and snap distances from the sketch's size."""
+    """Fill in automatic filter, snap, fairing and fit distances from the sketch's size."""
     filt = tol.filter_mm if tol.filter_mm is not None else auto_filter_threshold(strokes)
     snap = tol.snap_mm if tol.snap_mm is not None else SNAP_FRACTION * sketch_diagonal(np.concatenate(strokes))
     fair = tol.fair_mm if tol.fair_mm is not None else FAIR_FRACTION * snap
-    return replace(tol, filter_mm=float(filt), snap_mm=float(snap), fair_mm=float(fair))
+    fit = tol.fit_mm if tol.fit_mm is not None else FIT_FRACTION * sketch_diagonal(np.concatenate(strokes))
+    return replace(tol, filter_mm=float(filt), snap_mm=float(snap), fair_mm=float(fair), fit_mm=float(fit))
 
 
 def _fair_deviation(original: np.ndarray, faired: np.ndarray) -> float:

@@ -15,7 +15,9 @@ from typing import Optional
 
 import numpy as np
 
-from .errors import ProgSurfError, StrokeOutsideSurfaceError, StrokeRejectedError, StrokeRunsAlongCurveError
+from .errors import (ProgSurfError, StrokeFoldsError, StrokeOutsideSurfaceError, StrokeRejectedError,
+                     StrokeRunsAlongCurveError)
+from .fold_repair import repair_folds
 from .network import PatchNetwork
 from .stroke_ends import StrokeEnd, end_of, placed_end, trim_ends
 from .stroke_insertion import insert_piece
@@ -93,15 +95,26 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
         used = []
         for piece in pieces:
             used.append(_add_open(net, old, piece, index, tol, snap, falloff, work))
+        log = net.take_log()
+        touched = {r for kind, r in log if kind in ("created", "changed") and r in net.region_ids}
+        left = repair_folds(net, old, touched)
+        replanned = net.take_log()
+        log += replanned
+        if left:
+            worst = max(left, key=lambda f: f.angle_deg)
+            raise StrokeFoldsError(f"it would fold the surface: {worst.describe()}; redraw it closer "
+                                   "to the surface, or further from the curves it nearly touches")
     except ProgSurfError as err:
         net.restore(snap_state)
         return StrokeRecord(index, "interior", "rejected", str(err), points=pts)
-    log = net.take_log()
     created = tuple(r for kind, r in log if kind == "created" and r in net.region_ids)
     removed = tuple(r for kind, r in log if kind == "removed" and r in old.region_ids)
     note = f"{len(work.curve_ids)} straight piece(s); ends: {', '.join(work.ends)}"
     if work.pulled:
         note += f"; pulled curve(s) {sorted(work.pulled)} to it"
+    splits = sum(kind == "created" for kind, _ in replanned) // 2
+    if splits:
+        note += f"; {splits} region(s) split along the old surface where it would have creased"
     return StrokeRecord(index, "interior", "accepted", note, np.vstack(work.pre_image),
                         tuple(work.curve_ids), created, removed, tuple(sorted(work.pulled)),
                         tuple(work.ends), tuple(work.offsets), np.vstack(used))

@@ -15,6 +15,7 @@ import numpy as np
 
 from .errors import StrokeOutsideSurfaceError, StrokeRejectedError
 from .network import EdgeSegments, PatchNetwork
+from .closing import RAMP_SLOPE
 from .preimage import ray_exit
 from .strokes import cumulative_length
 from .types import FloatArray
@@ -50,8 +51,8 @@ def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]
 
     Tests the distance from the points of the first half of the stroke to every current boundary
     (outer sides, earlier strokes). Over-sketch past an outer side may be any length; past an
-    interior curve it may be at most max(2 snap, 15% of the stroke), so a stroke that truly
-    crosses an earlier one is not cut there. Returns (j, edge id, t, point) or None."""
+    interior curve it may be at most 2 snap long, so a stroke that truly crosses an earlier
+    one near its start is not cut there (a 15 % allowance had cut real stroke). Returns (j, edge id, t, point) or None."""
     a, b, eid, t0, t1, outer = segs
     h = max(1, len(pts) // 2)
     p = pts[:h]
@@ -62,7 +63,7 @@ def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]
     close = a[None] + w[..., None] * ab[None]
     d = np.linalg.norm(p[:, None, :] - close, axis=2)
     run = cumulative_length(pts)
-    limit = max(2.0 * snap, 0.15 * run[-1])
+    limit = 2.0 * snap
     allowed = outer[None, :] | (run[:h, None] <= limit)
     d = np.where(allowed, d, np.inf)
     j, s = np.unravel_index(int(np.argmin(d)), d.shape)
@@ -74,20 +75,59 @@ def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]
 
 def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArray, Optional[Snap], Optional[Snap]]:
     """Step (2) at both ends of pts (n, 3): each end that is on or crosses a boundary is cut
-    where it meets it. Returns the trimmed points (first and last point on the boundary when
+    where it meets it, running smoothly into the snap point (run_into). Returns the trimmed points (first and last point on the boundary when
     snapped) and the snaps of the first and last end (None for a free end)."""
     segs = net.edge_segments()
     first = snap_end(pts, snap, segs)
     if first is not None:
-        j, _, _, p = first
-        pts = np.vstack([p, pts[j + 1:]])
+        pts = run_into(pts, first[0], first[3])
     last = snap_end(pts[::-1], snap, segs)
     if last is not None:
-        j, _, _, p2 = last
-        pts = np.vstack([pts[: len(pts) - 1 - j], p2])
+        pts = run_into(pts[::-1], last[0], last[3])[::-1]
     if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9:
         raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
     return pts, first, last
+
+
+def run_into(pts: FloatArray, j: int, target: FloatArray) -> FloatArray:
+    """Step (2) for a snapped first end: trim the over-sketch before the stroke's closest approach
+    to the curve and let the stroke run smoothly into the snap point.
+
+    The cut is where the snap point projects onto the stroke (on the segments around vertex j),
+    not at vertex j itself, so the kept part cannot turn back; the remaining offset from the cut
+    to the snap point is spread over the stroke's first stretch (as the boundary closing spreads
+    its corner offsets, closing.RAMP_SLOPE), instead of a jump in one segment (a hook)."""
+    best = (np.inf, j, 0.0)
+    for k in (j - 1, j):
+        if 0 <= k < len(pts) - 1:
+            a, b = pts[k], pts[k + 1]
+            ab = b - a
+            ll = float(ab @ ab)
+            w = float(np.clip((target - a) @ ab / ll, 0.0, 1.0)) if ll > 1e-300 else 0.0
+            d = float(np.linalg.norm(a + w * ab - target))
+            if d < best[0]:
+                best = (d, k, w)
+    _, k, w = best
+    cut = pts[k] + w * (pts[k + 1] - pts[k])
+    kept = np.vstack([cut, pts[k + 1:]])
+    if len(kept) > 2 and np.linalg.norm(kept[1] - kept[0]) <= 1e-12:
+        kept = np.delete(kept, 1, axis=0)
+    delta = np.asarray(target, dtype=float) - kept[0]
+    size = float(np.linalg.norm(delta))
+    if size <= 0 or len(kept) < 2:
+        kept = kept.copy()
+        kept[0] = target
+        return kept
+    run = cumulative_length(kept)
+    reach = min(size / RAMP_SLOPE, float(run[-1]) / 3.0)
+    if not reach > 0:
+        kept = kept.copy()
+        kept[0] = target
+        return kept
+    wgt = np.clip(1.0 - run / reach, 0.0, 1.0)
+    out = kept + (wgt * wgt * (3.0 - 2.0 * wgt))[:, None] * delta
+    out[0] = target
+    return out
 
 
 def free_end(net: PatchNetwork, q: FloatArray, which: str, snap: float) -> StrokeEnd:

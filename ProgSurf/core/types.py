@@ -12,13 +12,20 @@ FloatArray = npt.NDArray[np.float64]
 """Any float64 array; shapes are given in each docstring."""
 
 
+FIT_FRACTION = 1e-4
+"""Automatic fit tolerance: this fraction of the sketch's bounding-box diagonal (0.013 mm on the
+bundled examples, 0.1 mm on a 1 m sketch); tolerances that are all relative give the same surface,
+scaled, for a sketch drawn at any size."""
+
+
 @dataclass(frozen=True)
 class Tolerances:
     """All tolerances in one value, passed explicitly (never a module global).
 
     filter_mm : 3D distance threshold of the stroke filter (paper, section 2); None = automatic
     snap_mm   : distance under which a stroke end is taken to be on a boundary (step 2); None = automatic
-    fit_mm    : how far an OCC B-spline face may lie from its Coons sub-patch
+    fit_mm    : how far an OCC B-spline face may lie from its Coons sub-patch; None = automatic
+                (FIT_FRACTION of the sketch's diagonal, so that a sketch at any scale fits alike)
     fair_mm   : how far a faired stroke may lie from its filtered points; None = automatic
                 (a fraction of the snap distance), 0 = no fairing
     param     : straightness tolerance of a pre-image in the unit square (step 6); the 3D stroke is
@@ -28,7 +35,7 @@ class Tolerances:
 
     filter_mm: Optional[float] = None
     snap_mm: Optional[float] = None
-    fit_mm: float = 0.01
+    fit_mm: Optional[float] = None
     fair_mm: Optional[float] = None
     param: float = 0.08
     gap_factor: float = 0.25

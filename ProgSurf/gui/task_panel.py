@@ -162,13 +162,17 @@ class SurfacePanel:
 
     # -- object -> display ------------------------------------------------------------------
     def show_status(self) -> None:
-        """Show the surface's last recompute: patches, G1 defect, boundary rejections, error."""
+        """Show the surface's last recompute: patches, G1 defect, boundary rejections, the quality
+        warning (folds, fit) and the error."""
         s = self.surface
         states = stroke_states(s)
         lines = [f"{s.PatchCount} patch(es); largest seam angle (G1 defect) "
                  f"{s.SeamAngleMax:.3g} deg"]
         lines += [f"boundary stroke {st.stroke.Label} rejected: {st.reason}"
                   for st in states if st.role == "boundary" and st.status == "rejected"]
+        quality = getattr(s, "Quality", "")
+        if quality and not quality.startswith("quality: ok"):
+            lines.append(f"<font color='darkorange'>{quality}</font>")
         if s.LastError:
             lines.append(f"<font color='red'>{s.LastError}</font>")
         self.status.setText("<br>".join(lines))

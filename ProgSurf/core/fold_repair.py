@@ -1,0 +1,155 @@
+"""Re-planning the regions around a fold a stroke made (core.folds), before giving the stroke up.
+
+A Coons sub-patch (Eq. 1, Hermite blends) takes its cross-boundary tangent along a side from the
+end tangents of the two adjacent sides only. When a stroke cuts a large curved region (a diagonal
+across a cylinder panel, say), that blend is a poor guess far from the corners and the two new
+sub-patches meet along the stroke at a crease that the surface before the stroke did not have.
+
+The cure follows the paper's own case (c) split (progressive.py, Fig. 6 (c)): a creased region is
+split by a curve from the middle of the creased side to the middle of the opposite side (or to the
+opposite corner of a 3-sided region). The new curve follows the surface as it was before the
+stroke, with the offsets at its ends distributed linearly, so its tangent where it meets the
+stroke carries the old surface's cross direction into both new sub-patches, and the interpolated
+stretch is halved. This is repeated a few rounds; a fold that is still there then rejects the
+stroke (progressive.add_stroke), and the surface stays as it was.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import StrokeRejectedError
+from .folds import Fold, find_folds
+from .types import FloatArray, Polyline
+
+ROUNDS = 3
+"""Rounds of splitting before a stroke that still folds the surface is rejected."""
+
+FOLLOW_POINTS = 32
+"""At least this many segments on a curve that follows the old surface."""
+
+REUSE_UV = 0.02
+"""A side's middle closer than this (pre-image) to an existing node of the side uses that node."""
+
+
+def _side_nodes(cycle: tuple, a: int, b: int) -> list[int]:
+    """Nodes of the cycle from corner a to corner b, in cycle order (both included)."""
+    n = len(cycle)
+    i, j = cycle.index(a), cycle.index(b)
+    return [cycle[(i + k) % n] for k in range((j - i) % n + 1)]
+
+
+def _node_at(net, nodes: list[int], target: FloatArray) -> int:
+    """A node at the pre-image point target on the polyline of nodes: an existing one within
+    REUSE_UV, else a new one splitting the edge that holds target (no pull: the curve stays)."""
+    uvs = np.array([net.node_uv(k) for k in nodes])
+    d = np.linalg.norm(uvs - target, axis=1)
+    inner = d[1:-1]
+    if len(inner) and inner.min() < REUSE_UV:
+        return nodes[1 + int(np.argmin(inner))]
+    best = None
+    for p, q in zip(nodes[:-1], nodes[1:]):
+        a, b = net.node_uv(p), net.node_uv(q)
+        ab = b - a
+        t = float(np.clip((target - a) @ ab / max(ab @ ab, 1e-300), 0.0, 1.0))
+        dist = float(np.linalg.norm(a + t * ab - target))
+        if best is None or dist < best[0]:
+            best = (dist, p, q, t)
+    _, p, q, t = best
+    eid, rev = net.edge_between(p, q)
+    t = 1.0 - t if rev else t
+    if not 1e-3 < t < 1 - 1e-3:
+        return p if (t < 0.5) != rev else q
+    return net.split_edge(eid, t, net.edges()[eid].polyline.evaluate(t), pull=False)
+
+
+def _follow_old(net, old, a: int, b: int) -> Polyline:
+    """The curve a -> b along the surface before the stroke, its end offsets spread linearly."""
+    uv0, uv1 = net.node_uv(a), net.node_uv(b)
+    # dense enough that its chords do not sag off the surface (a short pre-image may be long in 3D)
+    n = max(FOLLOW_POINTS, int(np.ceil(np.linalg.norm(uv1 - uv0) * 4 * net.mesh_density)))
+    w = np.linspace(0.0, 1.0, n + 1)
+    pts = old.evaluate_uv(uv0 + np.outer(w, uv1 - uv0))
+    pts = pts + (1 - w)[:, None] * (net.node_xyz(a) - pts[0]) + w[:, None] * (net.node_xyz(b) - pts[-1])
+    return Polyline(pts, w)
+
+
+def _split_across(net, old, rid: int, m: int) -> None:
+    """Split region rid by a curve from node m (on one of its sides) across the region."""
+    corners = list(net.region_corner_ids(rid))
+    cycle = net.region_cycle(rid)
+    k = len(corners)
+    side = None
+    for i in range(k):
+        nodes = _side_nodes(cycle, corners[i], corners[(i + 1) % k])
+        if m in nodes:
+            side = i
+            break
+    if side is None:
+        return
+    if m in corners:
+        return
+    if k == 3:
+        far = corners[(side + 2) % 3]
+    else:
+        a, b = corners[(side + 2) % 4], corners[(side + 3) % 4]
+        nodes = _side_nodes(cycle, a, b)
+        far = _node_at(net, nodes, 0.5 * (net.node_uv(a) + net.node_uv(b)))
+        cycle = net.region_cycle(rid)
+    if far == m or net.has_edge(m, far):
+        return
+    curve = net.new_curve_id("split")
+    for new in net.add_chord(rid, m, far, curve, _follow_old(net, old, m, far)):
+        if len(net.region_corner_ids(new)) not in (3, 4):
+            raise StrokeRejectedError("re-planning a fold would leave a region that is not 3- or 4-sided")
+
+
+def _middle(net, rid: int) -> tuple[int, FloatArray]:
+    """(a corner, the middle of the longer pair of opposite sides' first side) for a face fold."""
+    corners = list(net.region_corner_ids(rid))
+    uv = np.array([net.node_uv(c) for c in corners])
+    lengths = np.linalg.norm(np.roll(uv, -1, axis=0) - uv, axis=1)
+    i = int(np.argmax(lengths))
+    return i, 0.5 * (uv[i] + uv[(i + 1) % len(corners)])
+
+
+def _repair(net, old, fold: Fold) -> None:
+    live = set(net.region_ids)
+    if not set(fold.regions) <= live:
+        return
+    if fold.kind == "seam":
+        edges = net.edges()
+        if fold.edge not in edges:
+            return
+        e = edges[fold.edge]
+        m = net.split_edge(fold.edge, 0.5, e.polyline.evaluate(0.5), pull=False)
+        for rid in fold.regions:
+            _split_across(net, old, rid, m)
+        return
+    rid = fold.regions[0]
+    i, target = _middle(net, rid)
+    corners = list(net.region_corner_ids(rid))
+    nodes = _side_nodes(net.region_cycle(rid), corners[i], corners[(i + 1) % len(corners)])
+    m = _node_at(net, nodes, target)
+    if m not in corners:
+        _split_across(net, old, rid, m)
+
+
+def repair_folds(net, old, touched: set, sharp_curves=()) -> list[Fold]:
+    """Split the regions of every new fold among ``touched`` (regions a stroke made or reshaped)
+    for up to ROUNDS rounds; returns the folds that are left (empty when the surface is clean).
+    Folds that ``old`` already had in the same regions are not the stroke's and are left alone."""
+    before = {(f.kind, f.regions) for f in find_folds(old, touched & set(old.region_ids), sharp_curves)}
+    for round_ in range(ROUNDS + 1):
+        live = set(net.region_ids)
+        made = [f for f in find_folds(net, touched & live, sharp_curves) if (f.kind, f.regions) not in before]
+        if not made:
+            return []
+        if round_ == ROUNDS:
+            return made
+        seams = [f for f in made if f.kind == "seam"]
+        if not seams:            # a face that turns over is not mended by splitting it
+            return made
+        for fold in sorted(seams, key=lambda f: -f.angle_deg):
+            _repair(net, old, fold)
+        touched = touched | {r for r in net.region_ids if r not in live}
+    return made
