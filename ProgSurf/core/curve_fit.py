@@ -95,13 +95,26 @@ def _polyline_at(t: FloatArray, pts: FloatArray, x: FloatArray) -> FloatArray:
     return np.stack([np.interp(x, t, pts[:, k]) for k in range(3)], axis=1)
 
 
+SAMPLE_MERGE = 1e-9
+"""Samples of the fit closer than this (in the curve parameter, [0, 1]) are one sample, a vertex
+where one of them is: a point inside a knot span that falls on a vertex up to round-off (uniform
+parameters often do) is that vertex, whether or not the last bits agree (they differ with the
+sketch's scale; counted twice, it weighed twice and moved the curve by 1 % of the tolerance)."""
+
+
 def _samples(t: FloatArray, interior: FloatArray, per_span: int = 4) -> FloatArray:
     """Vertices, chord midpoints and `per_span` points inside every knot span: every span has data,
-    so a span crowded against a corner of the polyline cannot wander between vertices."""
+    so a span crowded against a corner of the polyline cannot wander between vertices. The
+    vertices are exactly t; other samples within SAMPLE_MERGE of a vertex or of each other are
+    left out."""
     bounds = np.concatenate([[0.0], interior, [1.0]])
     inside = (bounds[:-1, None] + (bounds[1:] - bounds[:-1])[:, None]
               * (np.arange(1, per_span + 1) / (per_span + 1))[None, :]).ravel()
-    return np.unique(np.concatenate([t, 0.5 * (t[1:] + t[:-1]), inside]))
+    extra = np.unique(np.concatenate([0.5 * (t[1:] + t[:-1]), inside]))
+    extra = extra[np.concatenate([[True], np.diff(extra) > SAMPLE_MERGE])]
+    at = np.clip(np.searchsorted(t, extra), 1, len(t) - 1)
+    near = np.minimum(np.abs(extra - t[at - 1]), np.abs(t[at] - extra)) <= SAMPLE_MERGE
+    return np.sort(np.concatenate([np.unique(t), extra[~near]]))
 
 
 def chord_sag(pts: FloatArray) -> FloatArray:
