@@ -78,9 +78,11 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     kkt[:m, m:] = c.T
     kkt[m:, :m] = c
     rhs = np.vstack([2.0 * (a.T @ pts + lam * d.T @ smooth), fixed_p])
-    if exact:
-        # minimum-norm least squares: with two nodes in one knot span the system is (nearly)
-        # singular, and this is the solution the knot refinement recovers from
+    if exact or (k and np.linalg.matrix_rank(c) < k):
+        # minimum-norm least squares: with more nodes in one knot span than it has poles the
+        # system is singular, and this is the solution the knot refinement recovers from (LU on
+        # it gave 1e22 mm poles or an error as the last bits fell, so the knots a sketch got
+        # depended on its scale)
         sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
     else:
         try:
