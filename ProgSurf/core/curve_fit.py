@@ -194,8 +194,10 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         bounds = np.concatenate([[0.0], interior, [1.0]])
         # refine where the polyline is missed, and around nodes the curve cannot pass through yet
         # (two nodes close together on one curve need a knot between them)
+        # (a point on a knot, up to the last bits, refines the spans on both sides of it)
         missed = np.concatenate([x[res > allow], fixed_t[fres > 1e-9 * scale]])
-        bad = np.unique(np.clip(np.searchsorted(bounds, missed, side="right") - 1, 0, len(bounds) - 2))
+        bad = np.unique(np.clip(np.searchsorted(bounds, np.concatenate([missed - SAMPLE_MERGE, missed + SAMPLE_MERGE]),
+                                                side="right") - 1, 0, len(bounds) - 2))
         new = 0.5 * (bounds[bad] + bounds[bad + 1])
         new = new[new - bounds[bad] > 1e-9]
         if len(new) == 0:
