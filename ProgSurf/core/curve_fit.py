@@ -156,7 +156,8 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     """
     t = np.asarray(t, dtype=float)
     pts = np.asarray(pts, dtype=float)
-    scale = max(float(np.ptp(pts, axis=0).max()), 1e-9)
+    # the curve's size, for the node check (1e-9 of it); all points one point: their magnitude
+    scale = float(np.ptp(pts, axis=0).max()) or float(np.abs(pts).max()) or 1.0
     # A kink of the polyline at a node (a curve pulled to a later stroke there) gets a C0 knot of
     # full multiplicity, instead of a crowd of knots that would chase the corner.
     interior = np.repeat(np.sort(np.asarray(breaks, dtype=float)), DEGREE)

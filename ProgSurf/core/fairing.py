@@ -116,7 +116,7 @@ def _max_curvature(dense: FloatArray) -> float:
     """Largest discrete curvature (turning angle over segment length) of a dense polyline."""
     d = np.diff(dense, axis=0)
     length = np.linalg.norm(d, axis=1)
-    ok = length > 1e-12
+    ok = length > 1e-14 * max(float(length.sum()), 1e-300)     # round-off segments (1e-12 mm at 100 mm)
     d, length = d[ok], length[ok]
     if len(d) < 2:
         return 0.0
