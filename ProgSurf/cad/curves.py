@@ -165,8 +165,15 @@ def join_side(curves: Sequence, reversed_flags: Sequence[bool], breaks: Sequence
     knots[0], knots[-1] = 0.0, 1.0
     side = Part.BSplineCurve()
     side.buildFromPolesMultsKnots(poles, mults, knots, False, DEGREE)
-    _smooth_junctions(side, [float(b) for b in breaks[1:-1]])
+    if len(breaks) > 2:
+        size = float(np.ptp(to_array(poles), axis=0).max())
+        _smooth_junctions(side, [float(b) for b in breaks[1:-1]], JUNCTION_FRACTION * size)
     return side
+
+
+JUNCTION_FRACTION = 1e-11
+"""A junction knot of a joined side is lowered where the curve moves by at most this fraction of
+the side's size (1e-9 mm on a 100 mm side): round-off, at any scale."""
 
 
 def _smooth_junctions(curve, junctions: Sequence[float], tol: float = 1e-9) -> None:
