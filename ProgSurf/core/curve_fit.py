@@ -18,7 +18,7 @@ from .bspline import DEGREE, basis_matrix
 from .errors import FitError
 from .types import FloatArray
 
-__all__ = ["DEGREE", "basis_matrix", "fit_cubic"]
+__all__ = ["DEGREE", "basis_matrix", "chord_sag", "fit_cubic", "sample_to_sag"]
 
 
 def _end_poles(knots: FloatArray, end_points: tuple, derivs: dict | None) -> dict | None:
@@ -134,6 +134,33 @@ def chord_sag(pts: FloatArray) -> FloatArray:
     span = np.linalg.norm(a + b, axis=1) * length[:-1] * length[1:]
     k = np.concatenate([[0.0], np.divide(2.0 * cross, span, out=np.zeros(len(span)), where=span > 1e-300), [0.0]])
     return length ** 2 * np.maximum(k[:-1], k[1:]) / 8.0
+
+
+SAG_ROUNDS = 8
+"""At most this many rounds of halving chords in sample_to_sag (a chord 256 times shorter)."""
+
+
+def sample_to_sag(points_at, w: FloatArray, sag_mm: float | None,
+                  rounds: int = SAG_ROUNDS) -> tuple[FloatArray, FloatArray]:
+    """Sample a curve given pointwise (points_at: (m,) parameters -> (m, 3) points) at the sorted
+    parameters w, halving every chord that sags more than sag_mm (chord_sag) until none does (at
+    most `rounds` rounds). The curve fit lets a smooth curve leave a chord by its sag, and the
+    Coons sub-patch is built on the chords: a curve the network makes itself (a split along the
+    old surface, an extension to the boundary) is sampled so that the two agree to sag_mm, as the
+    fairing samples the strokes. sag_mm None or 0: w as given. Returns (w, points)."""
+    w = np.asarray(w, dtype=float)
+    pts = np.asarray(points_at(w), dtype=float)
+    if not sag_mm or sag_mm <= 0:
+        return w, pts
+    for _ in range(rounds):
+        bad = chord_sag(pts) > sag_mm
+        if not bad.any():
+            break
+        mid = 0.5 * (w[:-1] + w[1:])[bad]
+        order = np.argsort(np.concatenate([w, mid]), kind="stable")
+        w = np.concatenate([w, mid])[order]
+        pts = np.vstack([pts, np.asarray(points_at(mid), dtype=float)])[order]
+    return w, pts
 
 
 def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: FloatArray, tol: float,
