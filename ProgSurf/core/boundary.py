@@ -415,7 +415,7 @@ def make_boundary(
     if faired:
         # Curve fairness beyond the paper: each boundary stroke becomes a light cubic B-spline
         # within its own tolerance (raised to a few times its jitter), sampled densely.
-        sag = tol.fit_mm / 4.0
+        sag = tol.sag_mm
         for i in chosen:
             ftol = stroke_tolerance(filtered[i], tol.fair_mm, tol.snap_mm)
             # rounded (1e-9 mm on the examples): a save/reopen round trip fairs the same

@@ -150,7 +150,7 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
         progress(1, total, "boundary closed")
 
     clock = time.perf_counter()
-    sag = tol.fit_mm / 4.0
+    sag = tol.sag_mm
     records: dict[int, StrokeRecord] = {}
     todo = list(interior)
     if _continues(previous, arrays, loop, interior, tol, falloff):

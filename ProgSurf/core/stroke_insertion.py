@@ -58,7 +58,7 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
         raise StrokeRejectedError("its pre-image has no length (both ends map to the same surface point)")
     # unfaired, an extension is sampled to the stroke's sag allowance (faired, the fairing
     # resamples it with the stroke to that allowance)
-    sag = None if tol.fair_mm else tol.fit_mm / 4.0
+    sag = None if tol.fair_mm else tol.sag_mm
     ext0_uv, ext0_xyz = (np.empty((0, 2)), np.empty((0, 3))) if start.snapped else \
         extension(net, start, start.uv - end.uv, falloff, sag)
     ext1_uv, ext1_xyz = (np.empty((0, 2)), np.empty((0, 3))) if end.snapped else \
@@ -84,7 +84,7 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
         # Fair the stroke with its extensions as one curve, so the joins at the footpoints
         # carry no corner; parameters follow C1 through the ones just found.
         at: list = []
-        fair, _ = fair_stroke(xyz, tol.fair_mm, tol.fit_mm / 4.0, original_at=at)
+        fair, _ = fair_stroke(xyz, tol.fair_mm, tol.sag_mm, original_at=at)
         run = cumulative_length(fair)
         t_fair = np.clip(pchip(run[at], t, run), 0.0, 1.0)
         t_fair[0], t_fair[-1] = 0.0, 1.0
@@ -155,7 +155,7 @@ def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: S
     line = p1 - p0
     crossings = line_crossings(net, p0, p1)
     nodes, pulled = _place_nodes(net, full, p0, line, crossings, snap)
-    _add_chords(net, old, full, nodes, curve_id, tol.fit_mm / 4.0)
+    _add_chords(net, old, full, nodes, curve_id, tol.sag_mm)
     return np.array([p0, p1]), pulled
 
 
