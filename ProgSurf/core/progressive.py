@@ -143,6 +143,9 @@ def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: F
 def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances,
               snap: float, falloff: str, work: _Work) -> FloatArray:
     """One open stroke: snap/trim its ends, find its straight pieces, insert them in turn."""
+    if len(pts) < 2 or not np.ptp(pts, axis=0).max() > 0:
+        # (a "closed" stroke of one repeated point splits into a piece of one point)
+        raise StrokeRejectedError("it has no length: all its points are one point")
     pts, first, last = trim_ends(net, pts, snap)
     start, end = end_of(net, first, pts[0], "first", snap), end_of(net, last, pts[-1], "last", snap)
     breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
