@@ -97,7 +97,7 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
             used.append(_add_open(net, old, piece, index, tol, snap, falloff, work))
         log = net.take_log()
         touched = {r for kind, r in log if kind in ("created", "changed") and r in net.region_ids}
-        left = repair_folds(net, old, touched, sag_mm=tol.sag_mm)
+        left = repair_folds(net, old, touched, sag_mm=tol.made_sag_mm)
         replanned = net.take_log()
         log += replanned
         if left:

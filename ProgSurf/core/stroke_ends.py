@@ -13,7 +13,6 @@ from typing import Optional
 
 import numpy as np
 
-from .curve_fit import sample_to_sag
 from .errors import StrokeOutsideSurfaceError, StrokeRejectedError
 from .network import EdgeSegments, PatchNetwork
 from .closing import RAMP_SLOPE
@@ -165,13 +164,11 @@ def placed_end(net: PatchNetwork, pts: FloatArray, snap: float, which: str) -> S
     return free_end(net, pts[0], which, snap)
 
 
-def extension(net: PatchNetwork, end: StrokeEnd, away: FloatArray, falloff: str,
-              sag_mm: float | None = None) -> tuple[FloatArray, FloatArray]:
+def extension(net: PatchNetwork, end: StrokeEnd, away: FloatArray, falloff: str) -> tuple[FloatArray, FloatArray]:
     """Steps (7)-(8): extend the pre-image from the footpoint F away from the stroke to the
     boundary g of the region it is in; the 3D points are the surface plus the offset Q - F,
     distributed evenly (linear) or smoothly (cubic) from F to g. Returns (uv (k,2), xyz (k,3)),
-    from F (exclusive) to g (inclusive); at least 4 points, more where a chord would sag more than
-    sag_mm (curve_fit.sample_to_sag)."""
+    from F (exclusive) to g (inclusive)."""
     norm = float(np.linalg.norm(away))
     if not norm > 1e-12:
         return np.empty((0, 2)), np.empty((0, 3))
@@ -181,11 +178,9 @@ def extension(net: PatchNetwork, end: StrokeEnd, away: FloatArray, falloff: str,
     if not length > 1e-9:
         return np.empty((0, 2)), np.empty((0, 3))
     k = max(4, int(np.ceil(length * 4 * net.mesh_density)))
+    w = np.linspace(0.0, 1.0, k + 1)[1:]
+    uv = end.uv + np.outer(w * length, direction)
+    surface = net.evaluate_uv(uv)
     delta = end.xyz - net.evaluate_uv(end.uv)
-
-    def points_at(w: FloatArray) -> FloatArray:
-        fall = 1.0 - w if falloff == "linear" else 2 * w**3 - 3 * w**2 + 1
-        return net.evaluate_uv(end.uv + np.outer(w * length, direction)) + fall[:, None] * delta
-
-    w, xyz = sample_to_sag(points_at, np.linspace(0.0, 1.0, k + 1), sag_mm)
-    return end.uv + np.outer(w[1:] * length, direction), xyz[1:]
+    fall = 1.0 - w if falloff == "linear" else 2 * w**3 - 3 * w**2 + 1
+    return uv, surface + fall[:, None] * delta

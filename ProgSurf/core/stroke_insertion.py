@@ -56,13 +56,11 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
     line's ends)."""
     if not np.linalg.norm(end.uv - start.uv) > 1e-6:
         raise StrokeRejectedError("its pre-image has no length (both ends map to the same surface point)")
-    # unfaired, an extension is sampled to the stroke's sag allowance (faired, the fairing
-    # resamples it with the stroke to that allowance)
-    sag = None if tol.fair_mm else tol.sag_mm
+    # (faired, the extensions are resampled with the stroke to the sag allowance below)
     ext0_uv, ext0_xyz = (np.empty((0, 2)), np.empty((0, 3))) if start.snapped else \
-        extension(net, start, start.uv - end.uv, falloff, sag)
+        extension(net, start, start.uv - end.uv, falloff)
     ext1_uv, ext1_xyz = (np.empty((0, 2)), np.empty((0, 3))) if end.snapped else \
-        extension(net, end, end.uv - start.uv, falloff, sag)
+        extension(net, end, end.uv - start.uv, falloff)
     main_uv = start.uv + np.outer(line_params(net, pts, start.uv, end.uv, snap), end.uv - start.uv)
     uv = np.vstack([ext0_uv[::-1], main_uv, ext1_uv])
     xyz = np.vstack([ext0_xyz[::-1], pts, ext1_xyz])
@@ -155,7 +153,7 @@ def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: S
     line = p1 - p0
     crossings = line_crossings(net, p0, p1)
     nodes, pulled = _place_nodes(net, full, p0, line, crossings, snap)
-    _add_chords(net, old, full, nodes, curve_id, tol.sag_mm)
+    _add_chords(net, old, full, nodes, curve_id, tol.made_sag_mm)
     return np.array([p0, p1]), pulled
 
 

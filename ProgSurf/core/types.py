@@ -54,6 +54,15 @@ class Tolerances:
         tolerance is automatic and not yet resolved (core.pipeline.resolve_tolerances)."""
         return SAG_FRACTION * self.fit_mm if self.fit_mm else None
 
+    @property
+    def made_sag_mm(self) -> Optional[float]:
+        """The sag the curves the network makes itself (splits along the old surface) are sampled
+        to: sag_mm where the strokes are faired to it; None (the mesh density only) where they are
+        not (fair_mm 0, or None outside the pipeline): an unfaired network is as coarse as its
+        strokes, and denser splits on it only chase the ripples of its polyline sub-patches
+        (1.75 times the poles on the benchmark's network)."""
+        return self.sag_mm if self.fair_mm else None
+
 
 @dataclass(frozen=True)
 class Polyline:
