@@ -74,3 +74,18 @@ def test_scaled_sketch_gives_the_same_surface_scaled(name, k, unscaled):
     assert out.shape.Area / k**2 == pytest.approx(ref_out.shape.Area, rel=AREA_REL)
     assert len(out.analysis.problems) == len(ref_out.analysis.problems)
     assert sorted(out.analysis.fit_over) == sorted(ref_out.analysis.fit_over)
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_every_face_lies_within_the_fit_tolerance_of_its_coons_sub_patch(name, unscaled):
+    """The report's fit check (issue 16): three_sided's split along the old surface had chords
+    sagging 1.5 times the fit tolerance, and two faces lay 1.27 times it from their polyline Coons
+    sub-patches. The network's polylines now sag under a quarter of it, so every face lies within
+    the fit tolerance itself, well inside the allowance the check gives (the fit tolerance plus
+    the chord sag of its sides)."""
+    out, _ = unscaled(name)
+    a = out.analysis
+    fit = out.result.tol.fit_mm
+    assert not a.problems, a.verdict()
+    assert a.fit_deviation_mm <= fit
+    assert a.fit_allowance_by_region and all(fit <= v <= 2 * fit for v in a.fit_allowance_by_region.values())
