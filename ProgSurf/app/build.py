@@ -74,6 +74,9 @@ class Analysis:
     report             : ReportMeasures, or None when no report was asked for
     folds              : cad.analysis.Fold per fold of the built faces (seams creased, faces turned over)
     fit_tolerance_mm   : the fit tolerance the faces were built to
+    fit_allowance_by_region : region id -> how far its face may lie from its Coons sub-patch: the
+                         fit tolerance plus the chord sag of its sides' polylines, which the curve
+                         fit is allowed (cad.analysis.fit_allowance); empty: the fit tolerance
     """
 
     seam_gap_mm: float
@@ -87,12 +90,17 @@ class Analysis:
     report: Optional[ReportMeasures] = None
     folds: tuple = ()
     fit_tolerance_mm: float = 0.0
+    fit_allowance_by_region: Mapping = field(default_factory=dict)
+
+    def fit_allowance(self, rid: int) -> float:
+        """How far region rid's face may lie from its Coons sub-patch (fit_allowance_by_region)."""
+        return self.fit_allowance_by_region.get(rid, self.fit_tolerance_mm)
 
     @property
     def fit_over(self) -> dict:
         """region id -> fit deviation of the faces that lie further from their Coons sub-patch
-        than the fit tolerance."""
-        return {rid: d for rid, d in self.fit_deviation_by_region.items() if d > self.fit_tolerance_mm}
+        than the fit tolerance allows them (the fit tolerance plus their sides' chord sag)."""
+        return {rid: d for rid, d in self.fit_deviation_by_region.items() if d > self.fit_allowance(rid)}
 
     @property
     def problems(self) -> list[str]:
@@ -102,7 +110,8 @@ class Analysis:
         if over:
             rid = max(over, key=over.get)
             out.append(f"{len(over)} face(s) lie further from their Coons sub-patch than the fit tolerance "
-                       f"{self.fit_tolerance_mm:.3g} mm (region {rid}: {over[rid]:.3g} mm)")
+                       f"{self.fit_tolerance_mm:.3g} mm and their sides' chord sag allow (region {rid}: "
+                       f"{over[rid]:.3g} mm, allowed {self.fit_allowance(rid):.3g} mm)")
         return out
 
     def verdict(self) -> str:
@@ -207,7 +216,8 @@ def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
         fit_deviation_by_region=fit,
         report=_report_measures(shell, result.network) if report else None,
         folds=tuple(cad_analysis.folds(shell)),
-        fit_tolerance_mm=float(result.tol.fit_mm))
+        fit_tolerance_mm=float(result.tol.fit_mm),
+        fit_allowance_by_region=cad_analysis.fit_allowance(shell, result.network, result.tol.fit_mm))
 
 
 def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",
@@ -290,6 +300,8 @@ def quality_section(analysis: Analysis) -> dict:
             "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions),
                        "edge": f.edge_id} for f in analysis.folds],
             "fit_tolerance_mm": analysis.fit_tolerance_mm,
+            "fit_allowance_max_mm": max(analysis.fit_allowance_by_region.values(),
+                                        default=analysis.fit_tolerance_mm),
             "faces_over_fit_tolerance": {str(k): v for k, v in analysis.fit_over.items()}}
 
 

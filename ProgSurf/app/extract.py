@@ -20,8 +20,23 @@ import Part
 from ProgSurf.cad.curves import to_array, to_vectors
 from ProgSurf.core.errors import InvalidStrokeError
 
-JOIN_TOL_MM = 1e-5
-"""Two edge ends closer than this are joined into one chain."""
+JOIN_FRACTION = 1e-7
+"""Two edge ends closer than this fraction of the edges' bounding-box diagonal (1e-5 mm for 100 mm
+of edges), and at least OCC's confusion distance, are joined into one chain: ends a sketch joins
+coincide to round-off, at any scale."""
+
+OCC_CONFUSION_MM = 1e-7
+"""OCC's Precision::Confusion: vertices closer than this are one vertex to OCC."""
+
+
+def join_tolerance(edges: Sequence[Part.Edge]) -> float:
+    """The distance under which two edge ends are joined (JOIN_FRACTION of the edges' size)."""
+    if not edges:
+        return OCC_CONFUSION_MM
+    box = edges[0].BoundBox
+    for e in edges[1:]:
+        box.add(e.BoundBox)
+    return max(JOIN_FRACTION * box.DiagonalLength, OCC_CONFUSION_MM)
 
 
 def vectors_to_array(vectors: Iterable) -> np.ndarray:
@@ -60,20 +75,21 @@ def order_chains(edges: Sequence[Part.Edge]) -> list[list[tuple[int, bool]]]:
     """
     ends = [_edge_key(e) for e in edges]
     used = [False] * len(edges)
+    join = join_tolerance(edges)
 
     def touching(p, skip):
         hits = []
         for j, (a, b) in enumerate(ends):
             if used[j] or j == skip:
                 continue
-            if (a - p).Length <= JOIN_TOL_MM:
+            if (a - p).Length <= join:
                 hits.append((j, False))
-            elif (b - p).Length <= JOIN_TOL_MM:
+            elif (b - p).Length <= join:
                 hits.append((j, True))
         return hits
 
     def degree(p):
-        return sum(((a - p).Length <= JOIN_TOL_MM) + ((b - p).Length <= JOIN_TOL_MM)
+        return sum(((a - p).Length <= join) + ((b - p).Length <= join)
                    for j, (a, b) in enumerate(ends) if not used[j])
 
     chains = []

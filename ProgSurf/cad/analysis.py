@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.bspline_surface import project_points, unit_normals
+from ..core.curve_fit import chord_sag
 from ..core.types import FloatArray
 from ._occ import Part, Vector
 from .faces import unit_normal
@@ -116,6 +117,38 @@ def fit_deviation(result, network, n: int = 21) -> dict:
         got = np.array([[tuple(info.surface.value(float(a), float(b))) for a, b in zip(ra, rb)]
                         for ra, rb in zip(ss, rr)])
         out[info.region_id] = float(np.linalg.norm(got - ref, axis=-1).max())
+    return out
+
+
+def fit_allowance(result, network, fit_mm: float) -> dict:
+    """region_id -> how far the face may lie from its Coons sub-patch (fit_deviation): fit_mm plus
+    the largest chord sag (core.curve_fit.chord_sag) of the polylines of its bottom and top sides
+    and of its left and right sides.
+
+    That is what the curve fit promises: each shared curve lies within half the fit tolerance
+    (cad.edges.EDGE_FIT_FRACTION) of its polyline at the vertices, and within that plus the
+    chord's sag between them (a smooth curve cannot, and need not, hug the corners of a coarse
+    polyline); the face and the sub-patch are the Coons patches (Eq. 1) of those curves and of
+    those polylines, so they differ by at most the largest difference along the bottom or top
+    plus the largest along the left or right. The network keeps the sag of the polylines it makes
+    (faired strokes, splits) under a quarter of the fit tolerance (Tolerances.sag_mm): the
+    allowance is 1.2 to 1.6 times the fit tolerance on the bundled examples, up to 3.3 times where a
+    boundary side merged of two strokes keeps a corner. A face beyond it is a fit that broke its
+    promise."""
+    edges = network.edges()
+    sag: dict = {}
+
+    def side_sag(pieces) -> float:
+        for p in pieces:
+            if p.edge_id not in sag:
+                pts = edges[p.edge_id].polyline.points
+                sag[p.edge_id] = float(chord_sag(pts).max()) if len(pts) > 2 else 0.0
+        return max((sag[p.edge_id] for p in pieces), default=0.0)
+
+    out = {}
+    for info in result.faces:
+        bottom, right, top, left = (side_sag(pieces) for pieces in info.sides)
+        out[info.region_id] = float(fit_mm) + max(bottom, top) + max(left, right)
     return out
 
 

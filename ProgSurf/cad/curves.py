@@ -66,6 +66,14 @@ def bspline(knots: FloatArray, poles: FloatArray, degree: int = DEGREE):
     return c
 
 
+def collapsed(points: FloatArray) -> bool:
+    """True when the points are one point up to round-off: their spread is within 1e-12 of their
+    largest coordinate, whatever the scale (the collapsed top of a 3-sided region; its nodes are
+    means of polyline ends, a few ulps off the points, and a few ulps of a 1 m sketch are 1e-11 mm)."""
+    pts = np.asarray(points, dtype=float)
+    return float(np.ptp(pts, axis=0).max()) <= 1e-12 * float(np.abs(pts).max())
+
+
 def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
                name: str = "curve", breaks=(), derivs: dict | None = None, seed=()):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
@@ -82,7 +90,7 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
         raise FitError(f"{name} has {len(pts)} point; a curve needs at least 2")
     ft = np.array(sorted(fixed))
     fp = np.array([fixed[k] for k in ft], dtype=float)
-    if np.ptp(np.vstack([pts, fp]), axis=0).max() <= 1e-12 or (len(pts) == 2 and len(ft) == 2 and not derivs):
+    if collapsed(np.vstack([pts, fp])) or (len(pts) == 2 and len(ft) == 2 and not derivs):
         return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
     knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs, seed=seed)
     return bspline(knots, poles)
@@ -157,8 +165,15 @@ def join_side(curves: Sequence, reversed_flags: Sequence[bool], breaks: Sequence
     knots[0], knots[-1] = 0.0, 1.0
     side = Part.BSplineCurve()
     side.buildFromPolesMultsKnots(poles, mults, knots, False, DEGREE)
-    _smooth_junctions(side, [float(b) for b in breaks[1:-1]])
+    if len(breaks) > 2:
+        size = float(np.ptp(to_array(poles), axis=0).max())
+        _smooth_junctions(side, [float(b) for b in breaks[1:-1]], JUNCTION_FRACTION * size)
     return side
+
+
+JUNCTION_FRACTION = 1e-11
+"""A junction knot of a joined side is lowered where the curve moves by at most this fraction of
+the side's size (1e-9 mm on a 100 mm side): round-off, at any scale."""
 
 
 def _smooth_junctions(curve, junctions: Sequence[float], tol: float = 1e-9) -> None:

@@ -104,7 +104,8 @@ def make_face(surface, what: str = "face"):
     a ShapeFix pass that cost ten times the rest of the face.)"""
     face = surface.toShape()
     if not face.isValid():
-        face.fix(1e-9, 1e-9, 1e-7)
+        size = face.BoundBox.DiagonalLength      # (1e-9, 1e-9, 1e-7) mm on a 100 mm face
+        face.fix(1e-11 * size, 1e-11 * size, 1e-9 * size)
         if not face.isValid():
             raise FitError(f"OCC made an invalid {what}; report this sketch")
     return face

@@ -28,7 +28,7 @@ from ..core.strokes import sketch_diagonal
 from ..core.types import FIT_FRACTION, Tolerances
 from .edges import fit_edges
 from .patch_faces import coons_faces, g1_faces
-from .sewing import SewnShell, sew, sew_into, vertex_keys
+from .sewing import SewnShell, sew, sew_into, sew_tolerance, vertex_keys
 
 CONTINUITIES = ("G0", "G1")
 """G0: the paper's Coons sub-patches as they are; G1: tangent-continuous seams (issue 9, cad.g1)."""
@@ -160,14 +160,16 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     t3 = time.perf_counter()
     faces = [i.face for i in infos]
     presewn = {id(f): s for f in faces if (s := last.lookup("sewn", id(f))) is not None}
-    local = sew_into(faces, last.sewn_shell, last.sewn)
+    sew_tol = sew_tolerance(tol.fit_mm)
+    local = sew_into(faces, last.sewn_shell, last.sewn, sew_tol)
     if local is not None:
         cache.sewn_shell, cache.sewn = local
         shape = cache.sewn_shell.shape
     else:
-        shape, cache.sewn = sew(faces, presewn)
+        shape, cache.sewn = sew(faces, presewn, sew_tol)
         if cache.sewn and shape.ShapeType == "Shell":
-            cache.sewn_shell = SewnShell(shape, {k: vertex_keys(f) for k, f in cache.sewn.items()})
+            cache.sewn_shell = SewnShell(shape, {k: vertex_keys(f, sew_tol) for k, f in cache.sewn.items()},
+                                         sew_tol)
     timings["sew"] = time.perf_counter() - t3
     counts["sewn"] = (sum(1 for f in faces if id(f) in presewn), len(faces))
     counts["local_sew"] = local is not None

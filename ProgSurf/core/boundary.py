@@ -28,7 +28,7 @@ import numpy.typing as npt
 from .fairing import fair_stroke, stroke_tolerance
 from .closing import ClosedSide, close_loop, project
 from .errors import DegenerateSketchError, InvalidOptionError, OpenBoundaryError
-from .strokes import (auto_filter_threshold, chord_length, filter_stroke, resample_arclength,
+from .strokes import (auto_filter_threshold, chord_length, filter_stroke, resample_arclength, round_points,
                       sketch_diagonal, validate_stroke)
 from .types import FloatArray, Tolerances
 
@@ -415,11 +415,11 @@ def make_boundary(
     if faired:
         # Curve fairness beyond the paper: each boundary stroke becomes a light cubic B-spline
         # within its own tolerance (raised to a few times its jitter), sampled densely.
-        sag = tol.fit_mm / 4.0
+        sag = tol.sag_mm
         for i in chosen:
             ftol = stroke_tolerance(filtered[i], tol.fair_mm, tol.snap_mm)
-            # rounded to 1e-9 mm: a save/reopen round trip (last-bit differences) fairs the same
-            filtered[i] = fair_stroke(np.round(filtered[i], 9), ftol, sag)[0]
+            # rounded (1e-9 mm on the examples): a save/reopen round trip fairs the same
+            filtered[i] = fair_stroke(round_points(filtered[i], tol.fit_mm), ftol, sag)[0]
         notes.append("faired boundary strokes (Kamiya & Aoyama / Mullineux fairness, see core.fairing)")
     sides, close_notes = close_loop([filtered[i] for i in chosen], chosen, plane, tol, diagonal)
     notes += close_notes

@@ -107,8 +107,8 @@ def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: Floa
     da2, db2 = da3 @ axes.T, db3 @ axes.T
     na, nb = float(np.linalg.norm(da2)), float(np.linalg.norm(db2))
     reach = 2.0 * limit
-    ext_a = a3[-1] + (da3 / na * reach if na > 1e-12 * (1 + limit) else 0.0 * da3)
-    ext_b = b3[0] + (db3 / nb * reach if nb > 1e-12 * (1 + limit) else 0.0 * db3)
+    ext_a = a3[-1] + (da3 / na * reach if na > 1e-12 * limit else 0.0 * da3)
+    ext_b = b3[0] + (db3 / nb * reach if nb > 1e-12 * limit else 0.0 * db3)
     tail3 = np.vstack([a3[ia0:], ext_a])
     head3 = np.vstack([ext_b, b3[:ib1]])
     tail2, head2 = project(tail3, origin, axes), project(head3, origin, axes)
@@ -134,7 +134,7 @@ def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: Floa
         # a crossing in projection only is not a corner when the strokes are far apart in depth there
         # (a ring seen edge-on): then the ends are joined in 3D below
         apart = float(np.linalg.norm(pa - pb)) > max(2.0 * end_gap3, 1e-3 * limit)
-        if not apart and (crossing or cost[k] <= DIRECT_JOIN_RATIO * gap_ends + 1e-12 * (1 + limit)):
+        if not apart and (crossing or cost[k] <= DIRECT_JOIN_RATIO * gap_ends + 1e-12 * limit):
             if extension > limit:
                 raise _gap_error(names, extension, limit)
             keep_until = len(a3) if ik == len(tail3) - 2 else ia0 + ik + 1
@@ -142,7 +142,7 @@ def _close_corner(a3: FloatArray, b3: FloatArray, origin: FloatArray, axes: Floa
             what = ("cut at their crossing" if crossing else
                     f"extended in the projection plane by {extension:.3g} mm to meet")
             trimmed = max(-pos_a[k], 0.0) + max(pos_b[k], 0.0)
-            tiny = 1e-9 * (1.0 + limit)
+            tiny = 1e-9 * limit
             what = "cut at their crossing" if extension <= tiny else what
             trimmed = 0.0 if trimmed <= tiny else trimmed
             note = f"corner of strokes {names[0]}->{names[1]}: {what}" + (
@@ -225,7 +225,7 @@ def _check_simple(sides: Sequence[ClosedSide], origin: FloatArray, axes: FloatAr
     owner = np.concatenate([np.full(len(s.points) - 1, min(s.source)) for s in sides])
     uv = project(loop, origin, axes)
     step = np.linalg.norm(np.diff(np.vstack([uv, uv[:1]]), axis=0), axis=1)
-    keep = step > 1e-12 * (1.0 + np.abs(uv).max())  # no zero-length segments
+    keep = step > 1e-12 * np.abs(uv).max()  # no zero-length segments
     loop, owner, uv = loop[keep], owner[keep], uv[keep]
     uv = np.vstack([uv, uv[:1]])
     n = uv.shape[0] - 1
@@ -303,10 +303,10 @@ def close_loop(strokes: Sequence[FloatArray], names: Sequence[int], plane, tol: 
         before, after = corners[n - 1], corners[n]
         inner = _ramp_to_corners(loop[n][before.keep_from:after.keep_until], before, after)
         pts = np.vstack([before.point, inner, after.point])
-        keep = np.concatenate([[True], np.linalg.norm(np.diff(pts, axis=0), axis=1) > 1e-12 * (1 + diagonal)])
+        keep = np.concatenate([[True], np.linalg.norm(np.diff(pts, axis=0), axis=1) > 1e-12 * diagonal])
         keep[-1] = True
         pts = pts[keep]
-        if np.linalg.norm(pts[-2] - pts[-1]) <= 1e-12 * (1 + diagonal) and len(pts) > 2:
+        if np.linalg.norm(pts[-2] - pts[-1]) <= 1e-12 * diagonal and len(pts) > 2:
             pts = np.delete(pts, -2, axis=0)
         sides.append((pts, ids[n], flags[n]))
     if k <= 2:

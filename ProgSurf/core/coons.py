@@ -139,7 +139,7 @@ def coons_patch(bottom, right, top, left, tol: float = 1e-9) -> CoonsPatch:
     b, r, t, l = (_as_curve(s) for s in (bottom, right, top, left))
     ends = np.array([0.0, 1.0])
     bb, rr, tt, ll = b(ends), r(ends), t(ends), l(ends)
-    size = max(float(np.ptp(np.vstack([bb, rr, tt, ll]), axis=0).max()), 1.0)
+    size = float(np.ptp(np.vstack([bb, rr, tt, ll]), axis=0).max())
     pairs = {"c0 (bottom/left)": (bb[0], ll[0]), "c1 (bottom/right)": (bb[1], rr[0]),
              "c2 (top/right)": (tt[1], rr[1]), "c3 (top/left)": (tt[0], ll[1])}
     for name, (p, q) in pairs.items():

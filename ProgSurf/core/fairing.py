@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .bspline import basis_matrix, uniform_knots
+from .curve_fit import sample_to_sag
 from .strokes import cumulative_length
 from .types import FloatArray
 
@@ -116,7 +117,7 @@ def _max_curvature(dense: FloatArray) -> float:
     """Largest discrete curvature (turning angle over segment length) of a dense polyline."""
     d = np.diff(dense, axis=0)
     length = np.linalg.norm(d, axis=1)
-    ok = length > 1e-12
+    ok = length > 1e-14 * max(float(length.sum()), 1e-300)     # round-off segments (1e-12 mm at 100 mm)
     d, length = d[ok], length[ok]
     if len(d) < 2:
         return 0.0
@@ -194,12 +195,18 @@ def fair_stroke(points: FloatArray, tol: float, sag: float, keep_index: bool = F
         # Samples between consecutive points: enough that the chord sag stays under `sag`.
         curv = _max_curvature(evaluate_cubic(ctrl, np.linspace(0.0, 1.0, 201)))
         step = np.sqrt(8 * sag / curv) if curv > 0 else np.inf
+        u = [t[:1]]
         for i in range(len(seg) - 1):
             span = np.linalg.norm(seg[i + 1] - seg[i])
             k = int(min(max(1, np.ceil(span / step)), max(1, MAX_SAMPLES // n)))
-            w = np.arange(1, k + 1) / k
-            out_pts.append(evaluate_cubic(ctrl, t[i] + w * (t[i + 1] - t[i])))
-            original.append(original[-1] + k)
+            w = t[i] + np.arange(1, k + 1) / k * (t[i + 1] - t[i])
+            w[-1] = t[i + 1]
+            u.append(w)
+        # ... and where MAX_SAMPLES held the uniform density back, more samples at the bends only
+        u, piece = sample_to_sag(lambda x: evaluate_cubic(ctrl, x), np.concatenate(u), sag)
+        out_pts.append(piece[1:])
+        at = np.searchsorted(u, t[1:])          # the input points' parameters are all still in u
+        original.extend((original[-1] + at).tolist())
     res = np.vstack(out_pts)
     res[0], res[-1] = pts[0], pts[-1]
     chord = _chord_params(res)

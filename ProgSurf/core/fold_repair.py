@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .curve_fit import sample_to_sag
 from .errors import StrokeRejectedError
 from .folds import Fold, find_folds
 from .types import FloatArray, Polyline
@@ -25,7 +26,8 @@ ROUNDS = 3
 """Rounds of splitting before a stroke that still folds the surface is rejected."""
 
 FOLLOW_POINTS = 32
-"""At least this many segments on a curve that follows the old surface."""
+"""At least this many segments on a curve that follows the old surface (more where its chords
+would sag more than the stroke's sag allowance: follow_surface)."""
 
 REUSE_UV = 0.02
 """A side's middle closer than this (pre-image) to an existing node of the side uses that node."""
@@ -62,18 +64,33 @@ def _node_at(net, nodes: list[int], target: FloatArray) -> int:
     return net.split_edge(eid, t, net.edges()[eid].polyline.evaluate(t), pull=False)
 
 
-def _follow_old(net, old, a: int, b: int) -> Polyline:
+def follow_surface(old, uv0: FloatArray, uv1: FloatArray, xyz0: FloatArray, xyz1: FloatArray,
+                   n: int, sag_mm: float | None) -> Polyline:
+    """The curve along the straight pre-image uv0 -> uv1 on the surface `old`, moved to start at
+    xyz0 and end at xyz1 (the offsets at its ends spread linearly), as a polyline of at least n
+    segments whose chords sag at most sag_mm (curve_fit.sample_to_sag; None: n segments)."""
+    uv0, uv1 = np.asarray(uv0, dtype=float), np.asarray(uv1, dtype=float)
+    ends = old.evaluate_uv(np.array([uv0, uv1]))
+    off0, off1 = np.asarray(xyz0, dtype=float) - ends[0], np.asarray(xyz1, dtype=float) - ends[1]
+
+    def points_at(w: FloatArray) -> FloatArray:
+        pts = old.evaluate_uv(uv0 + np.outer(w, uv1 - uv0))
+        return pts + (1 - w)[:, None] * off0 + w[:, None] * off1
+
+    w, pts = sample_to_sag(points_at, np.linspace(0.0, 1.0, n + 1), sag_mm)
+    pts[0], pts[-1] = xyz0, xyz1
+    return Polyline(pts, w)
+
+
+def _follow_old(net, old, a: int, b: int, sag_mm: float | None = None) -> Polyline:
     """The curve a -> b along the surface before the stroke, its end offsets spread linearly."""
     uv0, uv1 = net.node_uv(a), net.node_uv(b)
     # dense enough that its chords do not sag off the surface (a short pre-image may be long in 3D)
     n = max(FOLLOW_POINTS, int(np.ceil(np.linalg.norm(uv1 - uv0) * 4 * net.mesh_density)))
-    w = np.linspace(0.0, 1.0, n + 1)
-    pts = old.evaluate_uv(uv0 + np.outer(w, uv1 - uv0))
-    pts = pts + (1 - w)[:, None] * (net.node_xyz(a) - pts[0]) + w[:, None] * (net.node_xyz(b) - pts[-1])
-    return Polyline(pts, w)
+    return follow_surface(old, uv0, uv1, net.node_xyz(a), net.node_xyz(b), n, sag_mm)
 
 
-def _split_across(net, old, rid: int, m: int) -> None:
+def _split_across(net, old, rid: int, m: int, sag_mm: float | None = None) -> None:
     """Split region rid by a curve from node m (on one of its sides) across the region."""
     corners = list(net.region_corner_ids(rid))
     cycle = net.region_cycle(rid)
@@ -98,7 +115,7 @@ def _split_across(net, old, rid: int, m: int) -> None:
     if far == m or net.has_edge(m, far):
         return
     curve = net.new_curve_id("split")
-    for new in net.add_chord(rid, m, far, curve, _follow_old(net, old, m, far)):
+    for new in net.add_chord(rid, m, far, curve, _follow_old(net, old, m, far, sag_mm)):
         if len(net.region_corner_ids(new)) not in (3, 4):
             raise StrokeRejectedError("re-planning a fold would leave a region that is not 3- or 4-sided")
 
@@ -112,7 +129,7 @@ def _middle(net, rid: int) -> tuple[int, FloatArray]:
     return i, 0.5 * (uv[i] + uv[(i + 1) % len(corners)])
 
 
-def _repair(net, old, fold: Fold) -> None:
+def _repair(net, old, fold: Fold, sag_mm: float | None = None) -> None:
     live = set(net.region_ids)
     if not set(fold.regions) <= live:
         return
@@ -123,7 +140,7 @@ def _repair(net, old, fold: Fold) -> None:
         e = edges[fold.edge]
         m = net.split_edge(fold.edge, 0.5, e.polyline.evaluate(0.5), pull=False)
         for rid in fold.regions:
-            _split_across(net, old, rid, m)
+            _split_across(net, old, rid, m, sag_mm)
         return
     rid = fold.regions[0]
     i, target = _middle(net, rid)
@@ -131,13 +148,14 @@ def _repair(net, old, fold: Fold) -> None:
     nodes = _side_nodes(net.region_cycle(rid), corners[i], corners[(i + 1) % len(corners)])
     m = _node_at(net, nodes, target)
     if m not in corners:
-        _split_across(net, old, rid, m)
+        _split_across(net, old, rid, m, sag_mm)
 
 
-def repair_folds(net, old, touched: set, sharp_curves=()) -> list[Fold]:
+def repair_folds(net, old, touched: set, sharp_curves=(), sag_mm: float | None = None) -> list[Fold]:
     """Split the regions of every new fold among ``touched`` (regions a stroke made or reshaped)
     for up to ROUNDS rounds; returns the folds that are left (empty when the surface is clean).
-    Folds that ``old`` already had in the same regions are not the stroke's and are left alone."""
+    Folds that ``old`` already had in the same regions are not the stroke's and are left alone.
+    sag_mm: how far a chord of a splitting curve may sag (follow_surface)."""
     before = {(f.kind, f.regions) for f in find_folds(old, touched & set(old.region_ids), sharp_curves)}
     for round_ in range(ROUNDS + 1):
         live = set(net.region_ids)
@@ -150,6 +168,6 @@ def repair_folds(net, old, touched: set, sharp_curves=()) -> list[Fold]:
         if not seams:            # a face that turns over is not mended by splitting it
             return made
         for fold in sorted(seams, key=lambda f: -f.angle_deg):
-            _repair(net, old, fold)
+            _repair(net, old, fold, sag_mm)
         touched = touched | {r for r in net.region_ids if r not in live}
     return made

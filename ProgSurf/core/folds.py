@@ -50,7 +50,7 @@ class Fold:
 
 def _unit(v: FloatArray) -> tuple[FloatArray, np.ndarray]:
     n = np.linalg.norm(v, axis=-1)
-    ok = n > 1e-12 * max(1.0, float(np.max(n, initial=0.0)))
+    ok = n > 1e-12 * max(float(np.max(n, initial=0.0)), 1e-300)
     return v / np.where(ok, n, 1.0)[..., None], ok
 
 

@@ -203,7 +203,9 @@ class NetworkSurface:
         near = np.sort(np.argsort(gap, kind="stable")[:NEAR_REGIONS])
         found = real_footpoint(q, _join_parts([parts[i] for i in near]), slack)
         if found is not None:
-            reach = np.flatnonzero(gap <= abs(found.distance) + slack + 1e-9)
+            # (a margin for the round-off of the boxes: 1e-9 mm at 100 mm, relative to the point)
+            margin = 1e-11 * (float(np.abs(q).max()) + abs(found.distance) + slack)
+            reach = np.flatnonzero(gap <= abs(found.distance) + slack + margin)
             if not set(reach.tolist()) <= set(near.tolist()):
                 found = real_footpoint(q, _join_parts([parts[i] for i in reach]), slack)
             return found

@@ -13,7 +13,7 @@ from .boundary import BoundaryLoop, boundary_indices, make_boundary
 from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
-from .strokes import (auto_filter_threshold, filter_stroke, segment_projections, sketch_diagonal,
+from .strokes import (auto_filter_threshold, filter_stroke, round_points, segment_projections, sketch_diagonal,
                       validate_stroke)
 from .types import FIT_FRACTION, Polyline, Tolerances
 
@@ -150,7 +150,7 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
         progress(1, total, "boundary closed")
 
     clock = time.perf_counter()
-    sag = tol.fit_mm / 4.0
+    sag = tol.sag_mm
     records: dict[int, StrokeRecord] = {}
     todo = list(interior)
     if _continues(previous, arrays, loop, interior, tol, falloff):
@@ -176,8 +176,8 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
     start_all = time.perf_counter()
     for k, i in enumerate(todo, start=len(interior) - len(todo)):
         clock = time.perf_counter()
-        # rounded to 1e-9 mm so that a save/reopen round trip (last-bit differences) fairs the same
-        pts = np.round(filter_stroke(arrays[i], tol.filter_mm), 9)
+        # rounded (1e-9 mm on the examples) so that a save/reopen round trip fairs the same
+        pts = round_points(filter_stroke(arrays[i], tol.filter_mm), tol.fit_mm)
         stol = replace(tol, fair_mm=stroke_tolerance(pts, tol.fair_mm, tol.snap_mm))
         faired, _ = fair_stroke(pts, stol.fair_mm, sag)
         rec = add_stroke(net, faired, i, stol, tol.snap_mm, falloff)

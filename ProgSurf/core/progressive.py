@@ -97,7 +97,7 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
             used.append(_add_open(net, old, piece, index, tol, snap, falloff, work))
         log = net.take_log()
         touched = {r for kind, r in log if kind in ("created", "changed") and r in net.region_ids}
-        left = repair_folds(net, old, touched)
+        left = repair_folds(net, old, touched, sag_mm=tol.made_sag_mm)
         replanned = net.take_log()
         log += replanned
         if left:
@@ -143,6 +143,9 @@ def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: F
 def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances,
               snap: float, falloff: str, work: _Work) -> FloatArray:
     """One open stroke: snap/trim its ends, find its straight pieces, insert them in turn."""
+    if len(pts) < 2 or not np.ptp(pts, axis=0).max() > 0:
+        # (a "closed" stroke of one repeated point splits into a piece of one point)
+        raise StrokeRejectedError("it has no length: all its points are one point")
     pts, first, last = trim_ends(net, pts, snap)
     start, end = end_of(net, first, pts[0], "first", snap), end_of(net, last, pts[-1], "last", snap)
     breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)

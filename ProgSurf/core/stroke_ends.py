@@ -84,7 +84,7 @@ def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArr
     last = snap_end(pts[::-1], snap, segs)
     if last is not None:
         pts = run_into(pts[::-1], last[0], last[3])[::-1]
-    if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9:
+    if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9 * snap:
         raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
     return pts, first, last
 
@@ -110,7 +110,8 @@ def run_into(pts: FloatArray, j: int, target: FloatArray) -> FloatArray:
     _, k, w = best
     cut = pts[k] + w * (pts[k + 1] - pts[k])
     kept = np.vstack([cut, pts[k + 1:]])
-    if len(kept) > 2 and np.linalg.norm(kept[1] - kept[0]) <= 1e-12:
+    # the cut on the next vertex up to round-off (of the coordinates: 1e-12 mm at 100 mm)
+    if len(kept) > 2 and np.linalg.norm(kept[1] - kept[0]) <= 1e-14 * float(np.abs(kept[:2]).max()):
         kept = np.delete(kept, 1, axis=0)
     delta = np.asarray(target, dtype=float) - kept[0]
     size = float(np.linalg.norm(delta))

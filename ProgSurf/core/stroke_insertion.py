@@ -13,6 +13,7 @@ import numpy as np
 
 from .errors import StrokeRejectedError, StrokeRunsAlongCurveError
 from .fairing import fair_stroke, pchip
+from .fold_repair import follow_surface
 from .network import OUTER_CURVES, PatchNetwork
 from .node_planning import crossing_nodes, line_crossings
 from .stroke_ends import StrokeEnd, extension
@@ -55,6 +56,7 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
     line's ends)."""
     if not np.linalg.norm(end.uv - start.uv) > 1e-6:
         raise StrokeRejectedError("its pre-image has no length (both ends map to the same surface point)")
+    # (faired, the extensions are resampled with the stroke to the sag allowance below)
     ext0_uv, ext0_xyz = (np.empty((0, 2)), np.empty((0, 3))) if start.snapped else \
         extension(net, start, start.uv - end.uv, falloff)
     ext1_uv, ext1_xyz = (np.empty((0, 2)), np.empty((0, 3))) if end.snapped else \
@@ -80,7 +82,7 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
         # Fair the stroke with its extensions as one curve, so the joins at the footpoints
         # carry no corner; parameters follow C1 through the ones just found.
         at: list = []
-        fair, _ = fair_stroke(xyz, tol.fair_mm, tol.fit_mm / 4.0, original_at=at)
+        fair, _ = fair_stroke(xyz, tol.fair_mm, tol.sag_mm, original_at=at)
         run = cumulative_length(fair)
         t_fair = np.clip(pchip(run[at], t, run), 0.0, 1.0)
         t_fair[0], t_fair[-1] = 0.0, 1.0
@@ -117,7 +119,7 @@ def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatA
 
 
 def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: list[tuple[float, int]],
-                curve_id: int) -> None:
+                curve_id: int, sag_mm: float | None = None) -> None:
     """Steps (4)-(5): split each region the line crosses along the stroke between two of its
     nodes (Fig. 5/6 (a)-(d)); the chord's points are the stroke's, ramped onto its end nodes."""
     for (ta, na), (tb, nb) in zip(nodes[:-1], nodes[1:]):
@@ -139,7 +141,7 @@ def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: lis
         if na not in cyc or nb not in cyc:
             raise StrokeRejectedError("its pre-image passes too close to an existing node")
         for new in net.add_chord(rid, na, nb, curve_id, poly):
-            make_three_or_four_sided(net, old, new, na, nb)
+            make_three_or_four_sided(net, old, new, na, nb, sag_mm)
 
 
 def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: StrokeEnd,
@@ -151,11 +153,12 @@ def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: S
     line = p1 - p0
     crossings = line_crossings(net, p0, p1)
     nodes, pulled = _place_nodes(net, full, p0, line, crossings, snap)
-    _add_chords(net, old, full, nodes, curve_id)
+    _add_chords(net, old, full, nodes, curve_id, tol.made_sag_mm)
     return np.array([p0, p1]), pulled
 
 
-def make_three_or_four_sided(net: PatchNetwork, old: PatchNetwork, rid: int, a: int, b: int) -> None:
+def make_three_or_four_sided(net: PatchNetwork, old: PatchNetwork, rid: int, a: int, b: int,
+                             sag_mm: float | None = None) -> None:
     """Step (4), Fig. 6(c): a chord across two adjacent sides leaves a pentagon; split it into
     two 4-sided regions by a curve from the corner opposite the chord to the chord's middle M.
     The new curve follows the old surface with the offset at M distributed linearly."""
@@ -174,11 +177,8 @@ def make_three_or_four_sided(net: PatchNetwork, old: PatchNetwork, rid: int, a: 
     m = net.split_edge(eid, 0.5, net.edges()[eid].polyline.evaluate(0.5), pull=False)
     uv0, uv1 = net.node_uv(opposite), net.node_uv(m)
     n = max(4, int(np.ceil(np.linalg.norm(uv1 - uv0) * 4 * net.mesh_density)))
-    w = np.linspace(0.0, 1.0, n + 1)
-    uv = uv0 + np.outer(w, uv1 - uv0)
-    pts = old.evaluate_uv(uv)
-    pts = pts + (1 - w)[:, None] * (net.node_xyz(opposite) - pts[0]) + w[:, None] * (net.node_xyz(m) - pts[-1])
+    poly = follow_surface(old, uv0, uv1, net.node_xyz(opposite), net.node_xyz(m), n, sag_mm)
     curve = net.new_curve_id("split")
-    for new in net.add_chord(rid, opposite, m, curve, Polyline(pts, w)):
+    for new in net.add_chord(rid, opposite, m, curve, poly):
         if len(net.region_corner_ids(new)) not in (3, 4):
             raise StrokeRejectedError("subdividing would leave a region that is not 3- or 4-sided")

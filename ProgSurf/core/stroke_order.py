@@ -91,7 +91,7 @@ def _greedy_cycle(ends: FloatArray, penalty: float) -> tuple[list[int], list[boo
                 o2 = order[:a] + order[a:b][::-1] + order[b:]
                 f2 = flags[:a] + [not f for f in flags[a:b][::-1]] + flags[b:]
                 c2 = _cycle_cost(o2, f2, ends, penalty)
-                if c2 < cost - 1e-12 * (1.0 + cost):
+                if c2 < cost - 1e-12 * cost:
                     order, flags, cost, improved = o2, f2, c2, True
     return order, flags
 
@@ -130,7 +130,7 @@ def order_strokes(strokes3d: Sequence[FloatArray], diagonal: float) -> tuple[lis
     if k == 1:
         return [0], [False]
     ends = _oriented_ends(strokes3d)
-    penalty = 1e-9 * (1.0 + diagonal)
+    penalty = 1e-9 * diagonal
     order, flags = (_exact_cycle if k <= EXACT_ORDER_MAX else _greedy_cycle)(ends, penalty)
     return order, _orient_rings(strokes3d, order, flags)
 

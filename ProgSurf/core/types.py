@@ -18,6 +18,13 @@ bundled examples, 0.1 mm on a 1 m sketch); tolerances that are all relative give
 scaled, for a sketch drawn at any size."""
 
 
+SAG_FRACTION = 0.25
+"""Strokes are faired, and the curves the network makes sampled, so that a chord sags at most this
+fraction of the fit tolerance: the curve fit lets a smooth curve leave a chord by its sag, and the
+Coons sub-patch is built on the chords, so the face and the sub-patch then agree within the fit
+tolerance (a split curve of 32 chords sagged 1.5 times the fit tolerance on three_sided)."""
+
+
 @dataclass(frozen=True)
 class Tolerances:
     """All tolerances in one value, passed explicitly (never a module global).
@@ -39,6 +46,22 @@ class Tolerances:
     fair_mm: Optional[float] = None
     param: float = 0.08
     gap_factor: float = 0.25
+
+    @property
+    def sag_mm(self) -> Optional[float]:
+        """How far a chord of a network polyline may sag from the smooth curve through its points
+        (core.curve_fit.chord_sag): SAG_FRACTION of the fit tolerance; None while the fit
+        tolerance is automatic and not yet resolved (core.pipeline.resolve_tolerances)."""
+        return SAG_FRACTION * self.fit_mm if self.fit_mm else None
+
+    @property
+    def made_sag_mm(self) -> Optional[float]:
+        """The sag the curves the network makes itself (splits along the old surface) are sampled
+        to: sag_mm where the strokes are faired to it; None (the mesh density only) where they are
+        not (fair_mm 0, or None outside the pipeline): an unfaired network is as coarse as its
+        strokes, and denser splits on it only chase the ripples of its polyline sub-patches
+        (1.75 times the poles on the benchmark's network)."""
+        return self.sag_mm if self.fair_mm else None
 
 
 @dataclass(frozen=True)
