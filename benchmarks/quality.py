@@ -303,15 +303,31 @@ def by_config(results: list, continuity: str) -> str:
     return "\n".join(out)
 
 
+def _names(results: list, test, most: int = 12) -> str:
+    """The names of the results that pass test, the first `most` of them."""
+    names = [r["name"] for r in results if test(r)]
+    more = f" and {len(names) - most} more" if len(names) > most else ""
+    return (", ".join(names[:most]) + more) if names else "none"
+
+
 def section(results: list, continuities=CONTINUITIES) -> str:
-    """The markdown of a quality run: the summary (G0 beside G1), per configuration, and the names
-    of the sketches not built, folded or over the fit tolerance."""
+    """The markdown of a quality run: the summary (G0 beside G1), per configuration, why builds
+    failed (errors with their numbers as N, counted), and the names of the sketches not built,
+    folded or over the fit tolerance (the first 12 of each)."""
+    import re
+
     parts = [table(results, continuities)] + [by_config(results, c) for c in continuities]
     for c in continuities:
-        names = lambda test: ", ".join(r["name"] for r in results if test(r[c])) or "none"
-        parts.append(f"{c}: not built: {names(lambda r: not r['built'])}. "
-                     f"Folded: {names(lambda r: r['built'] and r['fold'])}. "
-                     f"Over the fit tolerance: {names(lambda r: r['built'] and not r['fit_ok'])}.")
+        rs = [r[c] | {"name": r["name"]} for r in results]
+        reasons: dict = {}
+        for r in rs:
+            if not r["built"]:
+                key = re.sub(r"\d+(\.\d+)?", "N", r["error"])[:160]
+                reasons[key] = reasons.get(key, 0) + 1
+        why = "; ".join(f"{n} x {k}" for k, n in sorted(reasons.items(), key=lambda kv: -kv[1]))
+        parts.append(f"{c}: not built: {_names(rs, lambda r: not r['built'])}{' (' + why + ')' if why else ''}. "
+                     f"Folded: {_names(rs, lambda r: r['built'] and r['fold'])}. "
+                     f"Over the fit tolerance: {_names(rs, lambda r: r['built'] and not r['fit_ok'])}.")
     return "\n\n".join(parts)
 
 
