@@ -10,7 +10,8 @@ demo:
 test:
 	./test.sh
 
-# Benchmarks against FreeCAD's Surface::Filling / GeomFillSurface (issue 8); ~7 min on 2 cores.
+# Benchmarks against FreeCAD's Surface::Filling / GeomFillSurface (issue 8), and quality on 108
+# hand-like sketches in G0 and G1 (issue 16; benchmarks/quality.py): ~20 min on 2 cores.
 bench: install
 	mkdir -p out/bench
 	.venv/bin/python benchmarks/run.py --out out/bench

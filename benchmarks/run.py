@@ -1,9 +1,11 @@
 """ProgSurf benchmarks (issue 8): interactive latency, against FreeCAD's Surface::Filling and
-GeomFillSurface, scale, and the profile of the core update.
+GeomFillSurface, scale, the profile of the core update, and (issue 16) quality on hand-like
+sketches with a known answer (benchmarks/quality.py).
 
-    /usr/bin/python3 benchmarks/run.py [--out out/bench] [--smoke]
+    /usr/bin/python3 benchmarks/run.py [--out out/bench] [--smoke] [--quality-per N] [--no-quality]
 
-Writes OUT/bench.md (the tables, also printed), OUT/bench.png and OUT/bench.json (raw numbers).
+Writes OUT/bench.md (the tables, also printed), OUT/bench.png, OUT/bench.json (raw numbers) and
+OUT/quality.txt (one line per quality sketch and continuity).
 --smoke runs everything at its smallest size (a minute or so; the test suite runs it).
 """
 from __future__ import annotations
@@ -28,9 +30,12 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 FULL = {"sizes": [1, 10, 50, 200, 500], "probes": 20, "shell_probes": {1: 5, 10: 5, 50: 5, 200: 3, 500: 2},
         "surfaces": ["saddle", "dome", "wave"], "ks": [0, 1, 2, 4, 8, 16], "scale_strokes": 200,
-        "profile_size": 200, "profile_probes": 10}
+        "profile_size": 200, "profile_probes": 10, "quality_per": 12, "quality_only": []}
 SMOKE = {"sizes": [1, 10], "probes": 3, "shell_probes": {1: 1, 10: 1}, "surfaces": ["saddle"], "ks": [0, 1],
-         "scale_strokes": 4, "profile_size": 10, "profile_probes": 2}
+         "scale_strokes": 4, "profile_size": 10, "profile_probes": 2, "quality_per": 1,
+         "quality_only": ["saddle_small", "section_bump"]}
+QUALITY_SEED_BASE = 0
+"""benchmarks.sketches.family(per, seed_base=QUALITY_SEED_BASE): the same sketches in every run."""
 
 
 def _scale_in_child(n: int, out: Path, fit_checked: bool) -> dict:
@@ -43,6 +48,38 @@ def _scale_in_child(n: int, out: Path, fit_checked: bool) -> dict:
     if proc.returncode != 0:
         raise RuntimeError(f"scale run failed: {proc.stderr.strip()[-800:]}")
     return json.loads(path.read_text())
+
+
+def _quality(cfg: dict, out: Path, jobs: int) -> dict | None:
+    """The quality section (benchmarks/quality.py) on benchmarks.sketches.family(cfg["quality_per"]):
+    {"text": markdown, "summary": per continuity, "results": per sketch}; None when quality_per is 0.
+    The sketches are built in child processes; their lines go to stderr and OUT/quality.txt."""
+    if not cfg["quality_per"]:
+        return None
+    from benchmarks import quality
+    from benchmarks.sketches import family_specs
+
+    specs = family_specs(cfg["quality_per"], QUALITY_SEED_BASE, cfg["quality_only"])
+    lines = []
+
+    def progress(res):
+        lines.extend(quality.line(res, c) for c in quality.CONTINUITIES)
+        sys.stderr.write("\n".join(lines[-len(quality.CONTINUITIES):]) + "\n")
+
+    results = quality.run(specs, quality.CONTINUITIES, jobs=jobs, progress=progress)
+    (out / "quality.txt").write_text("\n".join(quality.line(r, c) for r in results for c in quality.CONTINUITIES) + "\n")
+    text = "\n\n".join([
+        f"{len(specs)} sketches of `benchmarks.sketches.family(per={cfg['quality_per']}, "
+        f"seed_base={QUALITY_SEED_BASE})`{' (configurations ' + ', '.join(cfg['quality_only']) + ')' if cfg['quality_only'] else ''}, "
+        "noisy strokes, each built through `app.build.build_and_measure(strokes, None, Tolerances())` in G0 and "
+        "in G1 (one process per sketch). Figures in % are of the boundary's bounding-box diagonal; the "
+        "lifted stroke alone puts a floor near 1.5% under dev_max. FOLD = a shared edge whose faces' "
+        "normals differ by more than 60 deg (9 points, 5-95% of the edge) or a face whose normal is more "
+        "than 90 deg from the truth's. Within the fit tolerance = the report's fit deviation at most "
+        "the tolerance the build used. One line per sketch: OUT/quality.txt.",
+        quality.section(results, quality.CONTINUITIES)])
+    return {"text": text, "summary": {c: quality.summary(results, c) for c in quality.CONTINUITIES},
+            "results": results}
 
 
 def _json_safe(x):
@@ -80,6 +117,10 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="benchmarks/run.py", description=__doc__.splitlines()[0])
     p.add_argument("--out", default=str(ROOT / "out" / "bench"), help="output folder (default out/bench)")
     p.add_argument("--smoke", action="store_true", help="smallest size of everything")
+    p.add_argument("--quality-per", type=int, metavar="N",
+                   help="quality sketches per configuration (default 12, 108 sketches; smoke: 1 of 2 configurations)")
+    p.add_argument("--no-quality", action="store_true", help="leave out the quality section")
+    p.add_argument("--jobs", type=int, default=2, help="quality builds run at once (default 2)")
     p.add_argument("--part", choices=["scale"], help=argparse.SUPPRESS)
     p.add_argument("--strokes", type=int, default=200, help=argparse.SUPPRESS)
     p.add_argument("--fit-checked", action="store_true", help=argparse.SUPPRESS)
@@ -94,7 +135,11 @@ def main(argv: list[str] | None = None) -> int:
 
     from benchmarks import latency, peers, report
 
-    cfg = SMOKE if args.smoke else FULL
+    cfg = dict(SMOKE if args.smoke else FULL)
+    if args.quality_per is not None:
+        cfg.update(quality_per=args.quality_per, quality_only=[])
+    if args.no_quality:
+        cfg["quality_per"] = 0
     t_start = time.perf_counter()
     clock: dict = {"reference_start_ms": machine_reference_ms()}
 
@@ -116,6 +161,10 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     scale = _scale_in_child(cfg["scale_strokes"], out, fit_checked=args.smoke)
     clock["scale_s"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    qual = _quality(cfg, out, args.jobs)
+    clock["quality_s"] = time.perf_counter() - t0
     clock["reference_end_ms"] = machine_reference_ms()
     clock["total_s"] = time.perf_counter() - t_start
 
@@ -124,7 +173,7 @@ def main(argv: list[str] | None = None) -> int:
         f"# ProgSurf benchmark{' (smoke)' if args.smoke else ''}",
         f"{platform.node()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
         f"wall time {clock['total_s']:.0f} s (latency {clock['latency_s']:.0f}, profile {clock['profile_s']:.0f}, "
-        f"peers {clock['peers_s']:.0f}, scale {clock['scale_s']:.0f}). Machine reference "
+        f"peers {clock['peers_s']:.0f}, scale {clock['scale_s']:.0f}, quality {clock['quality_s']:.0f}). Machine reference "
         f"(benchmarks/run.py:machine_reference_ms, lower is faster): {clock['reference_start_ms']:.1f} ms at "
         f"the start, {clock['reference_end_ms']:.1f} ms at the end.",
         "## 1. Interactive latency (saddle, random strokes)",
@@ -144,10 +193,12 @@ def main(argv: list[str] | None = None) -> int:
         "distance of the interior curves' points from the result.",
         report.peers_table(peer_rows),
         "## 3. Scale", report.scale_table(scale),
-        "## 4. Profile of the core update", report.profile_table(prof)])
+        "## 4. Profile of the core update", report.profile_table(prof)]
+        + ([] if qual is None else ["## 5. Quality on hand-like sketches", qual["text"]]))
     (out / "bench.md").write_text(md + "\n")
     raw = {"config": cfg, "clock_s": clock, "growth": growth, "latency": lat, "peers": peer_rows,
-           "scale": scale, "profile": {k: v for k, v in prof.items() if k != "text"}}
+           "scale": scale, "profile": {k: v for k, v in prof.items() if k != "text"},
+           "quality": None if qual is None else {k: v for k, v in qual.items() if k != "text"}}
     (out / "bench.json").write_text(json.dumps(_json_safe(raw), indent=1))
     sys.stdout.write(md + "\n")
     return 0

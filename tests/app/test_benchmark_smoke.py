@@ -43,7 +43,7 @@ class BenchmarkSmokeTest(unittest.TestCase):
         self.assertEqual(self.proc.returncode, 0, self.proc.stderr[-2000:])
         md = (self.out / "bench.md").read_text()
         self.assertEqual(md.strip(), self.proc.stdout.strip())
-        for heading in ("Interactive latency", "Surface::Filling", "Scale", "Profile"):
+        for heading in ("Interactive latency", "Surface::Filling", "Scale", "Profile", "Quality"):
             self.assertIn(heading, md)
         self.assertEqual((self.out / "bench.png").read_bytes()[:8], b"\x89PNG\r\n\x1a\n")
 
@@ -93,6 +93,27 @@ class BenchmarkSmokeTest(unittest.TestCase):
             for key in ("shell_s", "export_s", "reimport_s"):
                 self.assertTrue(_finite(b[key]) and b[key] > 0)
         self.assertTrue(_finite(s["peak_rss_mb"]) and s["peak_rss_mb"] > 0)
+
+    def test_quality_section_counts_every_sketch_in_g0_and_g1(self):
+        q = self.raw["quality"]
+        names = [r["name"] for r in q["results"]]
+        self.assertEqual(len(names), len(set(names)))
+        self.assertGreater(len(names), 0)
+        for c in ("G0", "G1"):
+            s = q["summary"][c]
+            self.assertEqual(s["total"], len(names))
+            self.assertLessEqual(s["folded"], s["built"])
+            self.assertLessEqual(s["fit_ok"], s["built"])
+            for r in q["results"]:
+                m = r[c]
+                self.assertIn("built", m, (r["name"], c))
+                if m["built"]:   # the lifted stroke is 1.5% of the diagonal off the truth
+                    self.assertTrue(_finite(m["dev_max_pct"]) and m["dev_max_pct"] >= m["dev_rms_pct"] > 0)
+                    self.assertGreater(m["faces"], 0)
+                else:
+                    self.assertTrue(m["error"])
+        lines = (self.out / "quality.txt").read_text().splitlines()
+        self.assertEqual(len(lines), 2 * len(names))
 
     def test_profile_lists_ten_functions_led_by_add_stroke(self):
         top = self.raw["profile"]["top"]

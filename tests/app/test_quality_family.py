@@ -1,0 +1,61 @@
+"""The quality contract on hand-like sketches (issue 16): 18 sketches of the project's own family
+(benchmarks.sketches.family(per=2, seed_base=0), every configuration twice) built in G0 through
+app.build.build_and_measure, each in its own process, two at a time (benchmarks.quality.run):
+
+- every sketch builds;
+- no fold: no shared edge whose faces' normals differ by more than 60 deg (9 points, 5-95% of the
+  edge) and no face whose normal is more than 90 deg from the truth's (benchmarks/quality.py);
+- the report's fit deviation is within the fit tolerance the build used.
+
+A failure names the sketch and its figures; `benchmarks/quality.py --per 2 --continuity G0` prints
+the same lines for the whole family.
+"""
+from __future__ import annotations
+
+import sys
+import unittest
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks import quality  # noqa: E402
+from benchmarks.sketches import family_specs  # noqa: E402
+
+PER, SEED_BASE = 2, 0
+
+
+class QualityFamilyTest(unittest.TestCase):
+    """One build per sketch (G0) for all three checks; each check reports every failing sketch."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.results = quality.run(family_specs(PER, SEED_BASE), ("G0",), jobs=2, timeout_s=300.0)
+
+    def _failing(self, test) -> list[str]:
+        return [quality.line(r, "G0") for r in self.results if test(r["G0"])]
+
+    def test_family_size(self):
+        self.assertEqual(len(self.results), 18)
+
+    def test_every_sketch_builds(self):
+        bad = self._failing(lambda r: not r["built"])
+        if bad:
+            self.fail(f"{len(bad)} of {len(self.results)} not built:\n" + "\n".join(bad))
+
+    def test_no_fold(self):
+        bad = self._failing(lambda r: r["built"] and r["fold"])
+        if bad:
+            self.fail(f"{len(bad)} of {len(self.results)} folded (seam_in > {quality.FOLD_SEAM_DEG:.0f} deg "
+                      "or flip > 0):\n" + "\n".join(bad))
+
+    def test_fit_within_the_stated_tolerance(self):
+        bad = self._failing(lambda r: r["built"] and not r["fit_mm"] <= r["fit_tol_mm"])
+        if bad:
+            self.fail(f"{len(bad)} of {len(self.results)} with the fit deviation over the tolerance:\n"
+                      + "\n".join(bad))
+
+
+if __name__ == "__main__":
+    unittest.main()
