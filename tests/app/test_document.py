@@ -262,7 +262,10 @@ class TestFig11Surface(DocTestCase):
         self.assertRecomputed(surface)
         # moved placements change stroke points by ~1e-14 mm, after which the B-spline fit may
         # pick other knots: the moved surface agrees with the shifted one within the fit tolerance
-        fit = surface.FitTolerance
+        # (0 = automatic: FIT_FRACTION of the sketch's diagonal, about that of the surface's box)
+        from ProgSurf.core.types import FIT_FRACTION
+
+        fit = surface.FitTolerance or FIT_FRACTION * before.BoundBox.DiagonalLength
         b0, b1 = before.BoundBox, surface.Shape.BoundBox
         for a, b, d in ((b0.XMin, b1.XMin, shift.x), (b0.YMax, b1.YMax, shift.y),
                         (b0.ZMax, b1.ZMax, shift.z), (b0.ZMin, b1.ZMin, shift.z)):
