@@ -198,7 +198,10 @@ def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
     """Seam gap and angle (cad.analysis.seam_stats), fit and stroke deviations of a ShellResult
     built from `result`'s network, by the module's sample rule; with report, ReportMeasures too."""
     seams = tuple(cad_analysis.seam_stats(shell, samples=SEAM_SAMPLES))
-    fit = cad_analysis.fit_deviation(shell, result.network, n=FIT_GRID)
+    # the fit is that of the exact Coons faces: in G1 mode of the G0 faces the G1 faces were made
+    # from (G1 then moves a face by at most cad.g1.OFFSET_FRACTION of the diagonal, on purpose)
+    fitted = cad_analysis.g0_view(shell)
+    fit = cad_analysis.fit_deviation(fitted, result.network, n=FIT_GRID)
     deviation = [-1.0] * n_strokes
     kept = _measured_strokes(result)
     if kept:      # every stroke's points in one call: one projection pass per face
@@ -217,7 +220,7 @@ def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
         report=_report_measures(shell, result.network) if report else None,
         folds=tuple(cad_analysis.folds(shell)),
         fit_tolerance_mm=float(result.tol.fit_mm),
-        fit_allowance_by_region=cad_analysis.fit_allowance(shell, result.network, result.tol.fit_mm))
+        fit_allowance_by_region=cad_analysis.fit_allowance(fitted, result.network, result.tol.fit_mm))
 
 
 def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",

@@ -19,7 +19,7 @@ import numpy as np
 
 from .curve_fit import sample_to_sag
 from .errors import StrokeRejectedError
-from .folds import Fold, find_folds
+from .folds import FACE_SAMPLES, Fold, find_folds, surface_turn_deg
 from .types import FloatArray, Polyline
 
 ROUNDS = 3
@@ -151,6 +151,23 @@ def _repair(net, old, fold: Fold, sag_mm: float | None = None) -> None:
         _split_across(net, old, rid, m, sag_mm)
 
 
+FACE_MARGIN_DEG = 10.0
+"""A region that turns (core.folds.face_turn_deg) no more than this beyond what the surface before
+the stroke turned over the same part of the pre-image is not folded by the stroke: a tube or a
+deep dome turns a lot on its own."""
+
+
+def _turn_before(net, old, fold: Fold) -> float:
+    """How much the surface before the stroke turned over the pre-image of a face fold's region."""
+    g = np.linspace(0.0, 1.0, FACE_SAMPLES)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    return surface_turn_deg(old, net.local_to_uv(fold.regions[0], s, r))
+
+
+def _made_by_stroke(net, old, fold: Fold) -> bool:
+    return fold.kind != "face" or fold.angle_deg > _turn_before(net, old, fold) + FACE_MARGIN_DEG
+
+
 def repair_folds(net, old, touched: set, sharp_curves=(), sag_mm: float | None = None) -> list[Fold]:
     """Split the regions of every new fold among ``touched`` (regions a stroke made or reshaped)
     for up to ROUNDS rounds; returns the folds that are left (empty when the surface is clean).
@@ -159,7 +176,8 @@ def repair_folds(net, old, touched: set, sharp_curves=(), sag_mm: float | None =
     before = {(f.kind, f.regions) for f in find_folds(old, touched & set(old.region_ids), sharp_curves)}
     for round_ in range(ROUNDS + 1):
         live = set(net.region_ids)
-        made = [f for f in find_folds(net, touched & live, sharp_curves) if (f.kind, f.regions) not in before]
+        made = [f for f in find_folds(net, touched & live, sharp_curves)
+                if (f.kind, f.regions) not in before and _made_by_stroke(net, old, f)]
         if not made:
             return []
         if round_ == ROUNDS:

@@ -131,3 +131,20 @@ def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Itera
         if angle > SEAM_FOLD_DEG:
             out.append(Fold("seam", angle, tuple(owners), eid, cid))
     return out
+
+
+def surface_turn_deg(net, uv: FloatArray) -> float:
+    """Largest angle (deg) between a normal of the network's surface at pre-image points uv (k, 2)
+    and their mean normal: how much the surface itself turns over that part of the pre-image."""
+    uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
+    h = np.where(uv + _STEP <= 1.0, _STEP, -_STEP)
+    p = net.evaluate_uv(uv)
+    du = (net.evaluate_uv(uv + np.column_stack([h[:, 0], 0 * h[:, 0]])) - p) / h[:, :1]
+    dv = (net.evaluate_uv(uv + np.column_stack([0 * h[:, 1], h[:, 1]])) - p) / h[:, 1:]
+    normals, ok = _unit(np.cross(du, dv))
+    if ok.sum() < 3:
+        return 0.0
+    mean, good = _unit(normals[ok].sum(axis=0))
+    if not good:
+        return 180.0
+    return float(_angle(normals[ok], np.broadcast_to(mean, normals[ok].shape)).max())
