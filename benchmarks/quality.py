@@ -174,6 +174,8 @@ def measure_build(sketch, continuity: str, clean: bool = False) -> dict:
             "rejected": sum(r.status == "rejected" for r in records),
             "roles_ok": [r.role for r in records] == [m["role"] for m in sketch.meta],
             "fit_mm": fit, "fit_tol_mm": fit_tol, "fit_ok": fit <= fit_tol,
+            # the report's own contract: every face within the fit tolerance plus its sides' chord sag
+            "fit_allowance_ok": not out.analysis.fit_over, "report_ok": not out.analysis.problems,
             "report_seam_deg": float(out.analysis.seam_angle_deg),
             "dev_rms_pct": dev_rms, "dev_max_pct": dev_max,
             "seam_in_deg": seam_in, "seams_over": seams_over, "flip_faces": flips, "normal_max_deg": normal_max,

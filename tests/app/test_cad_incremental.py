@@ -134,8 +134,10 @@ def test_a_partly_refitted_curve_joins_its_kept_pieces_c2():
     print("refitted joins: max angle %.2g deg, max d2 jump %.2g; one whole fit: %.2g deg, %.2g" % (
         max(a for a, _ in joins), max(j for _, j in joins), max(a for a, _ in whole), max(j for _, j in whole)))
     assert partial > 0 and len(joins) > 10
-    assert max(a for a, _ in joins) <= 1e-4      # round-off of cutting and re-parametrising pieces
-    assert max(j for _, j in joins) <= 1e-4
+    # as smooth as one whole fit of the same curves, to the round-off of cutting and re-parametrising
+    # pieces (a node where the polyline kinks by less than the kink rule still gets its C0 knot in both)
+    assert max(a for a, _ in joins) <= max(a for a, _ in whole) + 1e-4
+    assert max(j for _, j in joins) <= max(j for _, j in whole) + 1e-4
     _check_like_a_full_build(shell, full, net, tol)
 
 
