@@ -301,7 +301,7 @@ def quality_section(analysis: Analysis) -> dict:
     """The report's quality checks: folds, faces over the fit tolerance, and the verdict line."""
     return {"ok": not analysis.problems, "verdict": analysis.verdict(),
             "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions),
-                       "edge": f.edge_id} for f in analysis.folds],
+                       "edge": f.edge} for f in analysis.folds],
             "fit_tolerance_mm": analysis.fit_tolerance_mm,
             "fit_allowance_max_mm": max(analysis.fit_allowance_by_region.values(),
                                         default=analysis.fit_tolerance_mm),

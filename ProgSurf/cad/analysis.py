@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.bspline_surface import project_points, unit_normals
+from ..core.folds import Fold, turn_from_mean_deg
 from ..core.curve_fit import chord_sag
 from ..core.types import FloatArray
 from ._occ import Part, Vector
@@ -360,22 +361,6 @@ sides) at which folds are looked for: the ends of a seam and the sides of a face
 where a 3-sided face's collapsed corner has no defined normal."""
 
 
-@dataclass(frozen=True)
-class Fold:
-    """One fold of a built surface: kind "seam" (the edge, the two regions) or "face" (the region)."""
-
-    kind: str
-    angle_deg: float
-    regions: tuple
-    edge_id: int = -1
-
-    def describe(self) -> str:
-        if self.kind == "seam":
-            return (f"faces of regions {self.regions[0]} and {self.regions[1]} meet at "
-                    f"{self.angle_deg:.0f} deg along edge {self.edge_id}")
-        return f"the face of region {self.regions[0]} turns over ({self.angle_deg:.0f} deg inside it)"
-
-
 def _face_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
     data = info.derived
     if data.plain:
@@ -399,16 +384,12 @@ def folds(result) -> list[Fold]:
         _, angles = _seam_samples(uses[0], uses[1], t)
         angles = angles[~np.isnan(angles)]
         if len(angles) and angles.max() > FOLD_SEAM_DEG:
-            out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), eid))
+            out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), edge=eid))
     g = np.linspace(0.03, 0.97, FOLD_SAMPLES)
     s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
     for info in result.faces:
         normals, ok = _face_normals(info, s, r)
-        if ok.sum() < 3:
-            continue
-        mean = normals[ok].sum(axis=0)
-        size = float(np.linalg.norm(mean))
-        turn = 180.0 if size <= 1e-9 else float(np.degrees(np.arccos(np.clip(normals[ok] @ (mean / size), -1, 1))).max())
+        turn = turn_from_mean_deg(normals, ok)
         if turn > FOLD_FACE_DEG:
             out.append(Fold("face", turn, (info.region_id,)))
     return out

@@ -43,8 +43,9 @@ class Fold:
 
     def describe(self) -> str:
         if self.kind == "seam":
+            where = f"curve {self.curve_id}" if self.curve_id >= 0 else f"edge {self.edge}"
             return (f"a crease of {self.angle_deg:.0f} deg between regions {self.regions[0]} and "
-                    f"{self.regions[1]} along curve {self.curve_id}")
+                    f"{self.regions[1]} along {where}")
         return f"region {self.regions[0]} turns over ({self.angle_deg:.0f} deg inside it)"
 
 
@@ -79,17 +80,23 @@ def _angle(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)))
 
 
-def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
-    """Largest angle (deg) between a normal of region rid and the region's mean normal."""
-    g = np.linspace(0.0, 1.0, n)
-    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-    normals, ok = region_normals(net, rid, s, r)
+def turn_from_mean_deg(normals: FloatArray, ok: np.ndarray) -> float:
+    """Largest angle (deg) between the defined unit normals (k, 3) (ok: (k,) which are) and their
+    mean normal; 0 with fewer than 3, 180 when they cancel out."""
     if ok.sum() < 3:
         return 0.0
     mean, good = _unit(normals[ok].sum(axis=0))
     if not good:
         return 180.0
     return float(_angle(normals[ok], np.broadcast_to(mean, normals[ok].shape)).max())
+
+
+def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
+    """Largest angle (deg) between a normal of region rid and the region's mean normal."""
+    g = np.linspace(0.0, 1.0, n)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    normals, ok = region_normals(net, rid, s, r)
+    return turn_from_mean_deg(normals, ok)
 
 
 def seam_angle_deg(net, eid: int, regions: tuple, n: int = SEAM_SAMPLES) -> float:
@@ -142,9 +149,4 @@ def surface_turn_deg(net, uv: FloatArray) -> float:
     du = (net.evaluate_uv(uv + np.column_stack([h[:, 0], 0 * h[:, 0]])) - p) / h[:, :1]
     dv = (net.evaluate_uv(uv + np.column_stack([0 * h[:, 1], h[:, 1]])) - p) / h[:, 1:]
     normals, ok = _unit(np.cross(du, dv))
-    if ok.sum() < 3:
-        return 0.0
-    mean, good = _unit(normals[ok].sum(axis=0))
-    if not good:
-        return 180.0
-    return float(_angle(normals[ok], np.broadcast_to(mean, normals[ok].shape)).max())
+    return turn_from_mean_deg(normals, ok)
