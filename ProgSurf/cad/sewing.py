@@ -99,6 +99,8 @@ def sew(faces: list, previous: dict | None = None, tolerance: float = 1e-6) -> t
     sewn = Part.Compound(given)
     sewn.sewShape(tolerance)
     shells = sewn.Shells
+    if not shells and len(sewn.Faces) == 1:     # one patch (boundary strokes only): a shell of one face
+        shells = [Part.Shell(sewn.Faces)]
     shape = shells[0] if len(shells) == 1 else sewn
     # the sewing keeps each face's surface: tell the sewn faces apart by a point of their surface
     out = _match(faces, shape, tolerance)

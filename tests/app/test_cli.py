@@ -77,6 +77,22 @@ def test_strokes_from_several_files_are_taken_in_order(tmp_path):
     assert len(report["strokes"]) == len(read_strokes(EXAMPLE))
 
 
+def test_a_one_patch_surface_is_exported_as_a_shell_of_one_face(tmp_path):
+    """The method's base case, boundary strokes only (issue 17): one face, written and read back
+    as one shell (OCC's sewing of one face gives no shell; it was exit 1 "0 shells")."""
+    blocks = (ROOT / "examples" / "clean4.xyz").read_text().strip().split("\n\n")
+    (tmp_path / "b.xyz").write_text("\n\n".join(blocks[:4]) + "\n")
+    proc = run("build", str(tmp_path / "b.xyz"), "-o", str(tmp_path / "o.step"), "--report",
+               str(tmp_path / "o.json"), "-q")
+    assert proc.returncode == 0, proc.stderr
+    report = json.loads((tmp_path / "o.json").read_text())
+    assert report["faces"] == 1 and report["shell"]["valid"]
+    from ProgSurf.cad import read_back
+
+    back = read_back(str(tmp_path / "o.step"))
+    assert back["faces"] == 1 and back["shells"] == 1
+
+
 def _bad_boundary(path: Path) -> None:
     """Four short strokes at the corners of a 1 m square: gaps far wider than any closing limit."""
     t = np.linspace(0, 1, 10)[:, None]
