@@ -99,7 +99,9 @@ def parse_unittest_output(text: str) -> tuple[int, int, int] | None:
         return None
     total = int(ran[-1])
     verdict, details = status[-1]
-    counts = {k: int(v) for k, v in re.findall(r"(\w+)=(\d+)", details or "")}
+    # unittest writes "expected failures=1" and "unexpected successes=1", with a space
+    details = re.sub(r"(expected|unexpected) (failures|successes)", r"\1_\2", details or "")
+    counts = {k: int(v) for k, v in re.findall(r"(\w+)=(\d+)", details)}
     failed = counts.get("failures", 0) + counts.get("errors", 0) \
         + counts.get("unexpected_successes", 0)
     if verdict == "FAILED" and failed == 0:
