@@ -173,11 +173,13 @@ def repair_folds(net, old, touched: set, sharp_curves=(), sag_mm: float | None =
     for up to ROUNDS rounds; returns the folds that are left (empty when the surface is clean).
     Folds that ``old`` already had in the same regions are not the stroke's and are left alone.
     sag_mm: how far a chord of a splitting curve may sag (follow_surface)."""
-    before = {(f.kind, f.regions) for f in find_folds(old, touched & set(old.region_ids), sharp_curves)}
+    before = None      # the old network's folds, looked for only once the new one has any
     for round_ in range(ROUNDS + 1):
         live = set(net.region_ids)
-        made = [f for f in find_folds(net, touched & live, sharp_curves)
-                if (f.kind, f.regions) not in before and _made_by_stroke(net, old, f)]
+        found = find_folds(net, touched & live, sharp_curves)
+        if found and before is None:
+            before = {(f.kind, f.regions) for f in find_folds(old, touched & set(old.region_ids), sharp_curves)}
+        made = [f for f in found if (f.kind, f.regions) not in before and _made_by_stroke(net, old, f)]
         if not made:
             return []
         if round_ == ROUNDS:
