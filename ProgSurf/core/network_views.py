@@ -123,6 +123,31 @@ def pruned(table: dict, live: Iterable) -> dict:
     return table
 
 
+APEX_TIE_DEG = 10.0
+"""A 3-sided region collapses at its sharpest 3D corner when that is this much sharper than the
+corner opposite its longest pre-image side (the rule before), else at the latter."""
+
+
+def _corner_angle_deg(a: FloatArray, b: FloatArray, reach: float = 0.1) -> float:
+    """The angle (deg) at the common first point of polylines a and b (n, 3) between their
+    directions to the point at `reach` of each one's length (a chord, not the first segment,
+    so a stroke's jitter or hook at the corner does not decide). 180 where one is a point."""
+    def direction(p):
+        seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+        run = np.concatenate([[0.0], np.cumsum(seg)])
+        if not run[-1] > 0:
+            return None
+        at = reach * run[-1]
+        q = np.array([np.interp(at, run, p[:, j]) for j in range(3)])
+        d = q - p[0]
+        n = float(np.linalg.norm(d))
+        return d / n if n > 0 else None
+    da, db = direction(np.asarray(a, float)), direction(np.asarray(b, float))
+    if da is None or db is None:
+        return 180.0
+    return float(np.degrees(np.arccos(np.clip(da @ db, -1.0, 1.0))))
+
+
 def _join_sides(chain: list[tuple[Polyline, float, float]]) -> Polyline:
     """Concatenate polylines, each mapped to the side parameter interval [a, b]."""
     pts, prm = [], []
@@ -157,11 +182,34 @@ class NetworkViews:
             start = int(np.argmin(uv[:, 0] + uv[:, 1] + 1e-9 * np.arange(4)))
             k = k[start:] + k[:start]
             return (k[0], k[1], k[2], k[3]), False
-        # Triangle: the bottom is its longest side in the pre-image, the apex collapses (Fig. 4).
+        # Triangle: the apex that collapses (Fig. 4) is its sharpest corner in 3D; the side
+        # opposite it is the bottom.
+        i = (self._triangle_apex(rid, k) + 1) % 3
+        return (k[i], k[(i + 1) % 3], k[(i + 2) % 3], k[(i + 2) % 3]), True
+
+    def _triangle_apex(self, rid: int, k: tuple) -> int:
+        """Index (0-2) in k of the corner a 3-sided region collapses at: its sharpest corner in
+        3D, where the two sides leave it at the smallest angle. A 3-sided Coons patch
+        collapsed anywhere else squeezes a sharp corner between a regular bottom and side, and
+        turns over there (a sliver). Near ties (within APEX_TIE_DEG) keep the pre-image rule:
+        the apex opposite the longest pre-image side."""
+        reg = self._regions[rid]
+        cache = self.__dict__.setdefault("_apex_cache", {})
+        index = self._edge_index
+        cyc = reg.cycle
+        edges = tuple(self._edges[index[(a, b)][0]] for a, b in zip(cyc, cyc[1:] + cyc[:1]))
+        hit = cache.get(rid)
+        if hit is not None and hit[0] is reg and all(x is y for x, y in zip(hit[1], edges)) and len(hit[1]) == len(edges):
+            return hit[2]
         uv = np.array([self._nodes[n].uv for n in k])
         lengths = [np.linalg.norm(uv[(i + 1) % 3] - uv[i]) for i in range(3)]
-        i = int(np.argmax(lengths))
-        return (k[i], k[(i + 1) % 3], k[(i + 2) % 3], k[(i + 2) % 3]), True
+        default = (int(np.argmax(lengths)) + 2) % 3
+        angles = [_corner_angle_deg(self._side(rid, k[i], k[(i + 1) % 3]).polyline.points,
+                                    self._side(rid, k[i], k[(i + 2) % 3]).polyline.points) for i in range(3)]
+        best = int(np.argmin(angles))
+        apex = best if angles[best] < angles[default] - APEX_TIE_DEG else default
+        cache[rid] = (reg, edges, apex)
+        return apex
 
     def _walk(self, rid: int, a: int, b: int) -> list[int]:
         """Nodes of the region's cycle from corner a to corner b (either direction, along the
