@@ -14,6 +14,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
+from .strokes import APEX_TIE_DEG, corner_angle_deg
 from .types import FloatArray, Polyline
 
 OUTER_CURVES = (0, 1, 2, 3)
@@ -123,31 +124,6 @@ def pruned(table: dict, live: Iterable) -> dict:
     return table
 
 
-APEX_TIE_DEG = 10.0
-"""A 3-sided region collapses at its sharpest 3D corner when that is this much sharper than the
-corner opposite its longest pre-image side (the rule before), else at the latter."""
-
-
-def _corner_angle_deg(a: FloatArray, b: FloatArray, reach: float = 0.1) -> float:
-    """The angle (deg) at the common first point of polylines a and b (n, 3) between their
-    directions to the point at `reach` of each one's length (a chord, not the first segment,
-    so a stroke's jitter or hook at the corner does not decide). 180 where one is a point."""
-    def direction(p):
-        seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
-        run = np.concatenate([[0.0], np.cumsum(seg)])
-        if not run[-1] > 0:
-            return None
-        at = reach * run[-1]
-        q = np.array([np.interp(at, run, p[:, j]) for j in range(3)])
-        d = q - p[0]
-        n = float(np.linalg.norm(d))
-        return d / n if n > 0 else None
-    da, db = direction(np.asarray(a, float)), direction(np.asarray(b, float))
-    if da is None or db is None:
-        return 180.0
-    return float(np.degrees(np.arccos(np.clip(da @ db, -1.0, 1.0))))
-
-
 def _join_sides(chain: list[tuple[Polyline, float, float]]) -> Polyline:
     """Concatenate polylines, each mapped to the side parameter interval [a, b]."""
     pts, prm = [], []
@@ -204,7 +180,7 @@ class NetworkViews:
         uv = np.array([self._nodes[n].uv for n in k])
         lengths = [np.linalg.norm(uv[(i + 1) % 3] - uv[i]) for i in range(3)]
         default = (int(np.argmax(lengths)) + 2) % 3
-        angles = [_corner_angle_deg(self._side(rid, k[i], k[(i + 1) % 3]).polyline.points,
+        angles = [corner_angle_deg(self._side(rid, k[i], k[(i + 1) % 3]).polyline.points,
                                     self._side(rid, k[i], k[(i + 2) % 3]).polyline.points) for i in range(3)]
         best = int(np.argmin(angles))
         apex = best if angles[best] < angles[default] - APEX_TIE_DEG else default
