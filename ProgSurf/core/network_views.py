@@ -14,6 +14,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
+from .strokes import APEX_TIE_DEG, corner_angle_deg
 from .types import FloatArray, Polyline
 
 OUTER_CURVES = (0, 1, 2, 3)
@@ -157,11 +158,34 @@ class NetworkViews:
             start = int(np.argmin(uv[:, 0] + uv[:, 1] + 1e-9 * np.arange(4)))
             k = k[start:] + k[:start]
             return (k[0], k[1], k[2], k[3]), False
-        # Triangle: the bottom is its longest side in the pre-image, the apex collapses (Fig. 4).
+        # Triangle: the apex that collapses (Fig. 4) is its sharpest corner in 3D; the side
+        # opposite it is the bottom.
+        i = (self._triangle_apex(rid, k) + 1) % 3
+        return (k[i], k[(i + 1) % 3], k[(i + 2) % 3], k[(i + 2) % 3]), True
+
+    def _triangle_apex(self, rid: int, k: tuple) -> int:
+        """Index (0-2) in k of the corner a 3-sided region collapses at: its sharpest corner in
+        3D, where the two sides leave it at the smallest angle. A 3-sided Coons patch
+        collapsed anywhere else squeezes a sharp corner between a regular bottom and side, and
+        turns over there (a sliver). Near ties (within APEX_TIE_DEG) keep the pre-image rule:
+        the apex opposite the longest pre-image side."""
+        reg = self._regions[rid]
+        cache = self.__dict__.setdefault("_apex_cache", {})
+        index = self._edge_index
+        cyc = reg.cycle
+        edges = tuple(self._edges[index[(a, b)][0]] for a, b in zip(cyc, cyc[1:] + cyc[:1]))
+        hit = cache.get(rid)
+        if hit is not None and hit[0] is reg and all(x is y for x, y in zip(hit[1], edges)) and len(hit[1]) == len(edges):
+            return hit[2]
         uv = np.array([self._nodes[n].uv for n in k])
         lengths = [np.linalg.norm(uv[(i + 1) % 3] - uv[i]) for i in range(3)]
-        i = int(np.argmax(lengths))
-        return (k[i], k[(i + 1) % 3], k[(i + 2) % 3], k[(i + 2) % 3]), True
+        default = (int(np.argmax(lengths)) + 2) % 3
+        angles = [corner_angle_deg(self._side(rid, k[i], k[(i + 1) % 3]).polyline.points,
+                                    self._side(rid, k[i], k[(i + 2) % 3]).polyline.points) for i in range(3)]
+        best = int(np.argmin(angles))
+        apex = best if angles[best] < angles[default] - APEX_TIE_DEG else default
+        cache[rid] = (reg, edges, apex)
+        return apex
 
     def _walk(self, rid: int, a: int, b: int) -> list[int]:
         """Nodes of the region's cycle from corner a to corner b (either direction, along the

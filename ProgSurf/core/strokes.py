@@ -84,6 +84,25 @@ def cumulative_length(points: npt.ArrayLike) -> FloatArray:
     return np.concatenate([[0.0], np.cumsum(seg)])
 
 
+APEX_TIE_DEG = 10.0
+"""A 3-sided region (and a 3-sided boundary) collapses at its sharpest 3D corner when that is
+this much sharper than the corner the pre-image or the loop order would pick, else at the latter."""
+
+
+def corner_angle_deg(a: npt.ArrayLike, b: npt.ArrayLike, reach: float = 0.1) -> float:
+    """The angle (deg) at the common first point of polylines a and b (n, 3) between their
+    chords to the point at `reach` of each one's length (not their first segments, so jitter or a
+    hook at the corner does not decide); 180 where either has no length."""
+    dirs = []
+    for p in (np.asarray(a, dtype=float), np.asarray(b, dtype=float)):
+        d = point_at_length(p, reach * cumulative_length(p)[-1]) - p[0]
+        n = float(np.linalg.norm(d))
+        if not n > 0:
+            return 180.0
+        dirs.append(d / n)
+    return float(np.degrees(np.arccos(np.clip(dirs[0] @ dirs[1], -1.0, 1.0))))
+
+
 def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike) -> FloatArray:
     """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d)."""
     pts = np.asarray(points, dtype=float)
