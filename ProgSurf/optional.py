@@ -23,6 +23,10 @@ OPTIONAL_PACKAGES = {
 }
 """Every optional package ProgSurf imports, with how to name it to a user."""
 
+_NO_DEPS = {"c3d"}
+"""Packages whose only dependency (numpy) FreeCAD ships: pip must not put a second numpy into
+FreeCAD's extra-packages folder."""
+
 FREECAD_PACKAGES_FOLDER = "AdditionalPythonPackages"
 """The folder of FreeCAD's user data that FreeCAD 0.20 and later put on sys.path at start-up
 (when it exists) and where its Addon Manager pip-installs Python packages."""
@@ -36,14 +40,27 @@ def available(package: str) -> bool:
         return False
 
 
+def _base_python() -> str:
+    """The Python interpreter FreeCAD's Python comes from (inside FreeCAD, sys.executable is
+    FreeCAD itself): <base prefix>/bin/pythonX.Y when it exists, else pythonX.Y."""
+    name = "python{}.{}".format(*sys.version_info[:2])
+    for candidate in (os.path.join(sys.base_prefix, "bin", name),
+                      os.path.join(sys.base_prefix, "python.exe")):
+        if os.path.isfile(candidate):
+            return candidate
+    return name
+
+
 def install_hint(package: str, freecad_user_dir: Optional[str] = None) -> str:
     """How to install ``package``: into FreeCAD's extra-packages folder when ``freecad_user_dir``
     (``FreeCAD.getUserAppDataDir()``) is given, else into the Python that runs ProgSurf."""
-    python = "python{}.{}".format(*sys.version_info[:2])
     if freecad_user_dir:
         target = os.path.join(freecad_user_dir, FREECAD_PACKAGES_FOLDER)
+        no_deps = "--no-deps " if package in _NO_DEPS else ""
         return (f"install it into the folder FreeCAD adds to its Python path, then restart "
-                f"FreeCAD: {python} -m pip install --target \"{target}\" {package}")
+                f"FreeCAD: {_base_python()} -m pip install {no_deps}--target \"{target}\" "
+                f"{package}")
+    python = "python{}.{}".format(*sys.version_info[:2])
     return (f"install it into the Python that runs ProgSurf: {sys.executable or python} -m pip "
             f"install {package} (in a ProgSurf checkout, ./install.sh puts it into .venv)")
 
