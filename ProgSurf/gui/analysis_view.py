@@ -128,6 +128,7 @@ class AnalysisDialog(QtGui.QDialog):
             tell("Analyse surface", str(exc))
             picture.setText(str(exc))
             picture.setWordWrap(True)
+            picture.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)  # copy the command
             picture.setFixedWidth(360)
         else:
             pixmap = QtGui.QPixmap()
