@@ -180,6 +180,32 @@ class TestAddonManagerInstall(unittest.TestCase):
         self.assertEqual(self.result["am_required_missing"], [])
 
 
+class TestC3DPackageMissing(unittest.TestCase):
+    """In this process: with 'c3d' unimportable, File > Open of a .c3d file says how to install
+    it into FreeCAD's Python and leaves no empty document behind."""
+
+    def setUp(self):
+        self.saved = sys.modules.get("c3d", False)
+        sys.modules["c3d"] = None              # `import c3d` now raises ImportError
+
+    def tearDown(self):
+        if self.saved is False:
+            del sys.modules["c3d"]
+        else:
+            sys.modules["c3d"] = self.saved
+
+    def test_open_c3d_says_how_to_install_and_leaves_no_document(self):
+        from ProgSurf.app import importer
+        from ProgSurf.core.errors import MissingPackageError
+
+        before = set(FreeCAD.listDocuments())
+        with self.assertRaises(MissingPackageError) as caught:
+            importer.open(str(ROOT / "examples" / "sketch_mocap.c3d"))
+        target = os.path.join(FreeCAD.getUserAppDataDir(), FREECAD_PACKAGES_FOLDER)
+        self.assertIn(f'--target "{target}" c3d', str(caught.exception))
+        self.assertEqual(set(FreeCAD.listDocuments()), before)
+
+
 class TestOptionalPackagesDeclared(unittest.TestCase):
     """metadata.txt declares exactly the optional packages ProgSurf imports lazily."""
 
