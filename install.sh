@@ -59,6 +59,14 @@ for pkg in "${PYPI_PACKAGES[@]}"; do
         "$VENV/bin/python" -m pip install -q --disable-pip-version-check "$pkg"
     fi
 done
+# The marker that lets FreeCAD's start-up (Init.py, ProgSurf/venv_site.py) put this venv and
+# tests/ on sys.path: a developer install. An Addon Manager install has neither.
+MARKER="$VENV/progsurf-developer-install"
+if [ ! -f "$MARKER" ]; then
+    printf '%s\n' "Written by install.sh: FreeCAD puts $VENV's site-packages and $ROOT/tests" \
+        "on sys.path at start-up (see ProgSurf/venv_site.py). Delete this file to stop it." \
+        > "$MARKER"
+fi
 say "venv ready: $VENV"
 
 # 4. Link the checkout into FreeCAD's user Mod folder (0.20: ~/.local/share/FreeCAD/Mod).

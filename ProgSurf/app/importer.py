@@ -10,6 +10,8 @@ import os
 
 import FreeCAD
 
+from ProgSurf.core.errors import ProgSurfError
+
 from . import make
 
 
@@ -18,7 +20,11 @@ def open(filename: str):  # noqa: A001 - FreeCAD's import-module protocol names 
     name = os.path.splitext(os.path.basename(filename))[0]
     doc = FreeCAD.newDocument(name.replace("-", "_").replace(" ", "_") or "Strokes")
     doc.Label = name
-    make.make_strokes_from_file(filename, doc=doc)
+    try:
+        make.make_strokes_from_file(filename, doc=doc)
+    except ProgSurfError:
+        FreeCAD.closeDocument(doc.Name)    # a file that cannot be read leaves no empty document
+        raise
     return doc
 
 

@@ -16,7 +16,8 @@ from typing import Callable, Iterable, Optional, Sequence
 
 import FreeCAD
 
-from ProgSurf.core.errors import InvalidStrokeError, ProgSurfError
+from ProgSurf import optional
+from ProgSurf.core.errors import InvalidStrokeError, MissingPackageError, ProgSurfError
 
 from . import extract
 from .params import default_tolerances
@@ -68,11 +69,15 @@ def make_stroke_from_points(points, name: str = "Stroke", doc=None, recompute: b
 def make_strokes_from_file(path: str, doc=None, recompute: bool = True, **options) -> list:
     """Import every stroke of a .xyz/.txt/.csv/.asc/.c3d file, in file order, into a group.
 
-    ``options`` go to the C3D reader (see ProgSurf.io.read_strokes). Raises StrokeFileError.
+    ``options`` go to the C3D reader (see ProgSurf.io.read_strokes). Raises StrokeFileError, or
+    MissingPackageError saying how to install the package 'c3d' into FreeCAD's Python.
     """
     from ProgSurf.io import read_strokes  # numpy reader, imported when a file is read
 
-    arrays = read_strokes(path, **options)
+    try:
+        arrays = read_strokes(path, **options)
+    except MissingPackageError as exc:
+        raise optional.for_freecad(exc, FreeCAD.getUserAppDataDir()) from None
     doc = _doc(doc)
     stem = os.path.splitext(os.path.basename(path))[0]
     group = doc.addObject("App::DocumentObjectGroup", f"Strokes_{stem}".replace("-", "_"))

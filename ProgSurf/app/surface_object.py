@@ -9,7 +9,8 @@ B-spline faces (``ProgSurf.cad``) and its quality numbers, which fill the Result
 
 A rejected stroke never breaks the surface: it is marked on the stroke and in ``StrokeStatus``
 and reported as a warning. If the build fails (a ProgSurfError or an OCC failure), the error is
-reported on the Report view and in ``LastError`` and the previous valid Shape is kept.
+reported on the Report view and in ``LastError`` and the previous valid Shape is kept; a
+surface whose first build fails has no shape and says so (``failure_message``).
 """
 from __future__ import annotations
 
@@ -126,9 +127,8 @@ class SurfaceProxy(FeatureProxy):
                 previous=getattr(self, "shell", None), candidates=candidates,
                 previous_result=getattr(self, "result", None))
         except (ProgSurfError, Part.OCCError) as exc:
-            message = f"{obj.Label}: {exc}; the previous shape is kept"
-            FreeCAD.Console.PrintError(f"ProgSurf: {message}\n")
-            obj.LastError = message
+            obj.LastError = failure_message(obj, exc)
+            FreeCAD.Console.PrintError(f"ProgSurf: {obj.LastError}\n")
             return
         self.result, self.analysis = outcome.result, outcome.analysis
         self.shell = outcome.shell          # reused by the next recompute (not saved)
@@ -169,6 +169,20 @@ class SurfaceProxy(FeatureProxy):
 
     def __setstate__(self, state) -> None:
         self.forget_build()
+
+
+def has_shape(obj) -> bool:
+    """True once a build of the surface succeeded (in this session or before it was saved)."""
+    return not obj.Shape.isNull()
+
+
+def failure_message(obj, error: Exception) -> str:
+    """``LastError`` of a failed build: why, and what the surface shows now (the previous shape,
+    or nothing when it never built). The strokes are never changed by a failed build."""
+    if has_shape(obj):
+        return f"{obj.Label}: {error}; the previous shape is kept"
+    return (f"{obj.Label}: no surface could be built: {error}; the strokes are unchanged "
+            "(change the boundary strokes or the tolerances)")
 
 
 def is_surface(obj) -> bool:

@@ -8,14 +8,14 @@ from typing import Sequence
 import numpy as np
 
 from ..core.types import FloatArray
+from ..optional import require
 
 
 def render_png(shape, path: str | os.PathLike, strokes: Sequence[FloatArray] = (),
                rejected: Sequence[bool] = (), title: str = "", deflection_mm: float | None = None,
                size_px: tuple[int, int] = (1200, 900)) -> None:
     """Write a PNG of `shape` (tessellated with shape.tessellate) and the strokes, isometric view."""
-    import matplotlib
-
+    matplotlib = require("matplotlib", "drawing a picture of the surface (--png)")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection

@@ -49,3 +49,17 @@ class FitError(ProgSurfError):
 
 class InvalidOptionError(ProgSurfError):
     """An option or tolerance passed by the caller is out of range, e.g. a negative filter threshold."""
+
+
+class MissingPackageError(ProgSurfError):
+    """An optional Python package that a feature needs is not installed (ProgSurf.optional).
+
+    package : the package's import name, e.g. "c3d"
+    feature : what needs it, e.g. "reading C3D files"
+    The message says how to install it.
+    """
+
+    def __init__(self, message: str, package: str, feature: str) -> None:
+        super().__init__(message)
+        self.package = package
+        self.feature = feature

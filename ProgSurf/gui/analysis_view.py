@@ -9,12 +9,17 @@ from __future__ import annotations
 
 import io
 
+import FreeCAD
 import numpy as np
 from PySide import QtCore, QtGui
+
+from ProgSurf import optional
+from ProgSurf.core.errors import MissingPackageError
 
 from .common import tell
 
 CURRENT = None
+PICTURE_FEATURE = "the Analyse view's picture of the pre-image plane"
 REGION_COLOURS = ("#fff2cc", "#dae8fc", "#d5e8d4", "#f8cecc", "#e1d5e7", "#ffe6cc")
 STROKE_COLOURS = ("#1f77b4", "#2ca02c", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
                   "#17becf", "#bcbd22", "#7f7f7f")
@@ -36,7 +41,11 @@ def region_polygon(region, edges: dict) -> np.ndarray:
 
 
 def render_preimage_png(result, labels: list, size_px: int = 560) -> bytes:
-    """PNG of the pre-image plane of a BuildResult: regions, edges and strokes' pre-images."""
+    """PNG of the pre-image plane of a BuildResult: regions, edges and strokes' pre-images.
+
+    Raises MissingPackageError (saying how to install it into FreeCAD's Python) without
+    matplotlib, an optional package."""
+    optional.require("matplotlib", PICTURE_FEATURE, FreeCAD.getUserAppDataDir())
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.patches import Polygon
@@ -112,9 +121,19 @@ class AnalysisDialog(QtGui.QDialog):
         result = surface.Proxy.result
         layout = QtGui.QHBoxLayout(self)
         picture = QtGui.QLabel()
-        pixmap = QtGui.QPixmap()
-        pixmap.loadFromData(render_preimage_png(result, [s.Label for s in strokes]), "PNG")
-        picture.setPixmap(pixmap)
+        try:
+            png = render_preimage_png(result, [s.Label for s in strokes])
+        except MissingPackageError as exc:
+            # the tables below need no matplotlib: say why the picture is missing, show the rest
+            tell("Analyse surface", str(exc))
+            picture.setText(str(exc))
+            picture.setWordWrap(True)
+            picture.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)  # copy the command
+            picture.setFixedWidth(360)
+        else:
+            pixmap = QtGui.QPixmap()
+            pixmap.loadFromData(png, "PNG")
+            picture.setPixmap(pixmap)
         layout.addWidget(picture)
 
         right = QtGui.QVBoxLayout()

@@ -6,9 +6,6 @@ Messages and file dialogs go through ProgSurf.gui.common (``tell``, ``ask_path``
 """
 from __future__ import annotations
 
-import importlib.util
-import os
-
 import FreeCAD
 import FreeCADGui
 
@@ -59,11 +56,8 @@ def run_in_transaction(doc, name: str, func, *args, **kwargs):
 def import_strokes(path: str, doc=None) -> list:
     """What Import strokes does with a chosen path (also called by tests)."""
     doc = doc or FreeCAD.ActiveDocument or FreeCAD.newDocument()
-    if path.lower().endswith(".c3d") and importlib.util.find_spec("c3d") is None:
-        from ProgSurf.io.c3d import INSTALL_HINT
-
-        tell("Import strokes", f"{os.path.basename(path)}: {INSTALL_HINT}")
-        return []
+    # a .c3d file without the optional package 'c3d': make_* raises a MissingPackageError that
+    # says how to install it into FreeCAD's Python, and run_in_transaction tells the user
     strokes = run_in_transaction(doc, "Import strokes", make.make_strokes_from_file, path, doc)
     if strokes and FreeCADGui.ActiveDocument:
         FreeCADGui.SendMsgToActiveView("ViewFit")

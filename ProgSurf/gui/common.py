@@ -4,8 +4,8 @@ This module imports no other ProgSurf.gui module, so that no two GUI modules nee
 each other (STYLE.md).
 
 Dialogs are drivable without interaction: a test sets ``ANSWERS["open"]`` / ``ANSWERS["save"]``
-to a path (used once instead of the file dialog) and reads messages from ``MESSAGES`` when
-``INTERACTIVE`` is False.
+to a path (used once instead of the file dialog) or ``ANSWERS[<question>]`` to True/False (used
+once instead of asking), and reads messages from ``MESSAGES`` when ``INTERACTIVE`` is False.
 """
 from __future__ import annotations
 
@@ -51,3 +51,20 @@ def ask_path(kind: str, caption: str, file_filter: str) -> str:
         QtGui.QFileDialog.getSaveFileName
     path, _ = dialog(FreeCADGui.getMainWindow(), caption, "", file_filter)
     return path
+
+
+def ask_yes_no(kind: str, title: str, text: str, default: bool) -> bool:
+    """A yes/no answer from the test hook ANSWERS[kind], else from a question box (the default
+    button is ``default``); without interaction the question goes to MESSAGES and the answer is
+    ``default``."""
+    if kind in ANSWERS:
+        return bool(ANSWERS.pop(kind))
+    if not INTERACTIVE:
+        MESSAGES.append((title, text))
+        return default
+    from PySide import QtGui
+
+    buttons = QtGui.QMessageBox.Yes | QtGui.QMessageBox.No
+    answer = QtGui.QMessageBox.question(FreeCADGui.getMainWindow(), title, text, buttons,
+                                        QtGui.QMessageBox.Yes if default else QtGui.QMessageBox.No)
+    return answer == QtGui.QMessageBox.Yes

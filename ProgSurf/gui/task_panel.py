@@ -13,12 +13,14 @@ from PySide import QtCore, QtGui
 
 from ProgSurf.app import make
 from ProgSurf.app.stroke_object import is_stroke
-from ProgSurf.app.surface_object import stroke_states
+from ProgSurf.app.surface_object import has_shape, stroke_states
 from ProgSurf.core.errors import ProgSurfError
 
-from .common import icon, tell
+from .common import ask_yes_no, icon, tell
 
 CURRENT = None
+KEEP_UNBUILT = "keep_unbuilt_surface"
+"""The question (a key of common.ANSWERS) asked on OK when a new surface could not be built."""
 
 
 def create_surface(preselected: list) -> "SurfacePanel | None":
@@ -166,8 +168,13 @@ class SurfacePanel:
         warning (folds, fit) and the error."""
         s = self.surface
         states = stroke_states(s)
-        lines = [f"{s.PatchCount} patch(es); largest seam angle (G1 defect) "
-                 f"{s.SeamAngleMax:.3g} deg"]
+        if has_shape(s):
+            lines = [f"{s.PatchCount} patch(es); largest seam angle (G1 defect) "
+                     f"{s.SeamAngleMax:.3g} deg"]
+        else:
+            lines = ["<b>No surface yet</b>: it could not be built from these strokes. Check "
+                     "other boundary strokes or change the tolerances; OK without a surface "
+                     "asks whether to keep the empty object."]
         lines += [f"boundary stroke {st.stroke.Label} rejected: {st.reason}"
                   for st in states if st.role == "boundary" and st.status == "rejected"]
         quality = getattr(s, "Quality", "")
@@ -216,10 +223,25 @@ class SurfacePanel:
             return False
         self.apply()
         self.doc.recompute()
+        if self.created and not has_shape(self.surface) and not self.keep_unbuilt():
+            self.doc.abortTransaction()        # the new surface goes; the strokes never changed
+            self._close()
+            CURRENT = None
+            return True
         self.doc.commitTransaction()
         self._close()
         CURRENT = None
         return True
+
+    def keep_unbuilt(self) -> bool:
+        """OK on a new surface that never built: keep the empty object? Default no."""
+        reason = self.surface.LastError or "its build failed"
+        keep = ask_yes_no(KEEP_UNBUILT, "Create progressive surface",
+                          f"{reason}\n\nKeep the empty surface object anyway? "
+                          "No removes it; the strokes stay as they are.", default=False)
+        if not keep:
+            FreeCAD.Console.PrintWarning(f"ProgSurf: no surface was created: {reason}\n")
+        return keep
 
     def reject(self) -> bool:
         global CURRENT

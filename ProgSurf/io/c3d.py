@@ -24,11 +24,10 @@ import numpy as np
 from ..core.errors import InvalidOptionError, StrokeFileError
 from ..core.strokes import auto_filter_threshold, filter_stroke
 from ..core.types import FloatArray
+from ..optional import require
 
-INSTALL_HINT = (
-    "reading C3D files needs the Python package 'c3d' (MIT licence): install it with "
-    "`.venv/bin/pip install c3d` in the ProgSurf folder (or run install.sh), or `pip install c3d`"
-)
+FEATURE = "reading C3D files"
+"""What needs the optional package 'c3d' (ProgSurf.optional)."""
 
 _UNIT_TO_MM = {
     "mm": 1.0, "millimeter": 1.0, "millimeters": 1.0, "millimetre": 1.0, "millimetres": 1.0,
@@ -113,11 +112,8 @@ class _Capture:
 
 
 def _c3d_module():
-    try:
-        import c3d  # noqa: PLC0415 - optional dependency, imported when a file is read
-    except ImportError as exc:
-        raise StrokeFileError(f"cannot read C3D: {INSTALL_HINT} ({exc})") from None
-    return c3d
+    """The optional c3d library, imported when a file is read (MissingPackageError if absent)."""
+    return require("c3d", FEATURE)
 
 
 def _check_layout(path: Path, handle) -> int:

@@ -23,7 +23,7 @@ from c3d_fixtures import quantise, runs_to_trajectory, write_c3d  # noqa: E402
 from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
 from hypothesis.extra import numpy as hnp  # noqa: E402
 
-from ProgSurf.core.errors import InvalidOptionError, StrokeFileError  # noqa: E402
+from ProgSurf.core.errors import InvalidOptionError, MissingPackageError, StrokeFileError  # noqa: E402
 from ProgSurf.core.strokes import auto_filter_threshold  # noqa: E402
 from ProgSurf.io.c3d import (  # noqa: E402
     list_markers, read_c3d, read_c3d_strokes, smooth_stroke,
@@ -320,7 +320,7 @@ def test_file_with_no_points(tmp_path):
 
 def test_missing_library_says_how_to_install(good_file, monkeypatch):
     monkeypatch.setitem(sys.modules, "c3d", None)  # makes `import c3d` raise ImportError
-    with pytest.raises(StrokeFileError, match=r"pip install c3d"):
+    with pytest.raises(MissingPackageError, match=r"reading C3D files needs .*pip install c3d"):
         read_c3d_strokes(good_file)
 
 
