@@ -541,8 +541,7 @@ def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
              are unchanged is taken from it.
     keep   : receives this call's {key: G1Face} (reused and new), for the next call."""
     sharp = g1.sharp_edges(network, angle_deg)
-    outer = [e.polyline.points for e in network.edges().values() if e.curve_id in OUTER_CURVES]
-    limit = OFFSET_FRACTION * sketch_diagonal(np.vstack(outer)) if outer else np.inf
+    limit = offset_limit_mm(network)
     seams = _Seams(infos, network, sharp, limit)
     out = []
     for info in infos:
@@ -554,3 +553,23 @@ def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
             keep[key] = face
         out.append(face)
     return tuple(out), sharp
+
+
+def offset_limit_mm(network) -> float:
+    """How far a G1 face may lie from its G0 face: OFFSET_FRACTION of the diagonal of the network's
+    outer boundary (inf without one)."""
+    outer = [e.polyline.points for e in network.edges().values() if e.curve_id in OUTER_CURVES]
+    return OFFSET_FRACTION * sketch_diagonal(np.vstack(outer)) if outer else np.inf
+
+
+def bound_summary(shell, network) -> dict:
+    """What a G1 ShellResult's bound did (for the build report): the bound, the largest move of a
+    face from its G0 face, the seams left G0 (creases that no band within the bound rounds), the
+    faces left G0 because their correction turned them over, and the faces whose correction was
+    scaled down to the bound (their seams keep part of the G0 defect)."""
+    faces = sorted((g for g, _ in shell.cache.g1_shapes.values()), key=lambda g: g.region_id)
+    return {"offset_bound_mm": offset_limit_mm(network),
+            "offset_max_mm": max((g.offset_mm for g in faces), default=0.0),
+            "seams_left_g0": sorted({e for g in faces for e in g.kept_g0}),
+            "faces_left_g0_turned_over": [g.region_id for g in faces if g.turned_over],
+            "faces_scaled_to_bound": [g.region_id for g in faces if g.scaled]}
