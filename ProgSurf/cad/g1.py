@@ -65,7 +65,8 @@ class G1Face:
 
     surface   : Part.BSplineSurface, boundary identical to the G0 face's
     free_sides: (4,) True where the side has no seam (outer boundary or degenerate): its flux may change
-    offset_mm : largest |S1 - S0| on a grid (how far smoothing moved the face)
+    offset_mm : largest |S1 - S0| (how far smoothing moved the face): the poles' bound where it is
+                within OFFSET_FRACTION, else measured on a grid dense in the bands
     band_widths: (4,) width of the band beside each side over which its correction fades out
     kept_g0   : ids of its seams left G0: creases G1 cannot round within OFFSET_FRACTION
     scaled    : True if even the narrowest bands moved it too far and the correction was scaled
@@ -504,7 +505,7 @@ def smooth_face(info, network, seams: _Seams, limit: float = np.inf) -> G1Face:
         out = Part.BSplineSurface()
         out.buildFromPolesMultsKnots(np.asarray(refined.poles, dtype=float).tolist(), *refined.mults_knots,
                                      False, False, 3, 3)
-    offset = float(np.linalg.norm(delta, axis=-1).max())   # convex hull bound of |S1 - S0|
+    offset = 0.0 if turned_over else min(size, limit)    # |S1 - S0|: the poles' bound, or the grid's
     return G1Face(info.region_id, out, free, offset, widths, kept, scaled, turned_over)
 
 
