@@ -3,8 +3,13 @@
 ProgSurf.core.continuity gives the rule (Egorov's flux functions with the normal component removed,
 Gregory-like corner twists); this module applies it to the OCC faces of build_shell:
 
-    S1(s,r) = S0(s,r) + h1(r) db(s) + h2(r) dt(s) + h1(s) dl(r) + h2(s) dr(r)
-              - sum over corners h_i(s) h_j(r) tau_ij                    (i, j in {1, 2})
+    S1(s,r) = S0(s,r) + g_b(r) db(s) + g_t(r) dt(s) + g_l(s) dl(r) + g_r(s) dr(r)
+              - sum over corners g_i(s) g_j(r) tau_ij          (i in {l, r}, j in {b, t})
+
+g_b..g_r are the Hermite blends of the derivative (h1, h2: value 0, slope 1 at their side, value and
+slope 0 at the other) narrowed to a band beside their side (core.continuity.band_blend): the widest
+band that keeps S1 within OFFSET_FRACTION of the diagonal of S0, so that G1 is never further from any
+target than G0 by more than that (issue 16).
 
 S0 is the G0 face (knots refined so that the corrections have room), db..dr are B-spline fits of the
 flux corrections -(D . n) n along each side, constrained to vanish at the corners and to have the
