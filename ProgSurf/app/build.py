@@ -280,6 +280,10 @@ def build_report(outcome: Outcome, *, inputs: Sequence[str], outputs: Mapping, t
         surface, deviation = outcome.skin
         extra["skin"] = {"u_poles": surface.NbUPoles, "v_poles": surface.NbVPoles,
                          "deviation_max_mm": deviation}
+    if shell.continuity == "G1":     # what G1 left G0 to stay within its bound of the G0 faces
+        from ProgSurf.cad.g1 import bound_summary
+
+        extra["g1_bound"] = bound_summary(shell, result.network)
     return make_report(
         faces=len(shell.shape.Faces), records=result.records,
         seams=[{"edge": s.edge_id, "regions": [s.region_a, s.region_b], "gap_max_mm": s.gap_max_mm,

@@ -385,11 +385,18 @@ def folds(result) -> list[Fold]:
         angles = angles[~np.isnan(angles)]
         if len(angles) and angles.max() > FOLD_SEAM_DEG:
             out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), edge=eid))
-    g = np.linspace(0.03, 0.97, FOLD_SAMPLES)
-    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
     for info in result.faces:
-        normals, ok = _face_normals(info, s, r)
-        turn = turn_from_mean_deg(normals, ok)
+        turn = face_turn_deg(info)
         if turn > FOLD_FACE_DEG:
             out.append(Fold("face", turn, (info.region_id,)))
     return out
+
+
+def face_turn_deg(info) -> float:
+    """Largest angle (deg) between a normal of a face (a FaceInfo: its surface and derived data)
+    and its mean normal, on the FOLD_SAMPLES grid 3 % in from its sides: a face fold beyond
+    FOLD_FACE_DEG (folds(); cad.g1 checks its corrected faces with it)."""
+    g = np.linspace(0.03, 0.97, FOLD_SAMPLES)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    normals, ok = _face_normals(info, s, r)
+    return turn_from_mean_deg(normals, ok)

@@ -3,8 +3,13 @@
 ProgSurf.core.continuity gives the rule (Egorov's flux functions with the normal component removed,
 Gregory-like corner twists); this module applies it to the OCC faces of build_shell:
 
-    S1(s,r) = S0(s,r) + h1(r) db(s) + h2(r) dt(s) + h1(s) dl(r) + h2(s) dr(r)
-              - sum over corners h_i(s) h_j(r) tau_ij                    (i, j in {1, 2})
+    S1(s,r) = S0(s,r) + g_b(r) db(s) + g_t(r) dt(s) + g_l(s) dl(r) + g_r(s) dr(r)
+              - sum over corners g_i(s) g_j(r) tau_ij          (i in {l, r}, j in {b, t})
+
+g_b..g_r are the Hermite blends of the derivative (h1, h2: value 0, slope 1 at their side, value and
+slope 0 at the other) narrowed to a band beside their side (core.continuity.band_blend): the widest
+band that keeps S1 within OFFSET_FRACTION of the diagonal of S0, so that G1 is never further from any
+target than G0 by more than that (issue 16).
 
 S0 is the G0 face (knots refined so that the corrections have room), db..dr are B-spline fits of the
 flux corrections -(D . n) n along each side, constrained to vanish at the corners and to have the
@@ -38,13 +43,23 @@ END_KNOTS = (0.02, 0.98)
 FLUX_SAMPLES_PER_SPAN = 3
 SMOOTHING = 1e-7
 H = 1e-4
-OFFSET_FRACTION = 0.02
-"""G1 never makes a surface worse: a face's correction moves it by at most this fraction of the
-network's diagonal (a larger one is scaled down to it), so its distance from any target, the truth
-included, grows by no more than that over G0."""
+OFFSET_FRACTION = 0.001
+"""G1 never makes a surface worse (issue 16): a G1 face lies within this fraction of the network's
+diagonal of its G0 face everywhere, so its distance from any target, the truth included, grows by no
+more than that over G0 (triangle inequality). Each seam's correction is confined to a band beside
+the seam narrow enough to stay within it (BAND_WIDTHS)."""
+BAND_WIDTHS = (1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125)
+"""Widths (fraction of the face's parameter range across the side) of the band over which a side's
+flux correction fades out: the widest whose correction stays within its share of OFFSET_FRACTION.
+A seam whose correction would need a narrower band than the last (a crease that cannot be rounded
+within the bound) is left G0."""
+SIDE_SHARE = 0.5
+"""Share of OFFSET_FRACTION each side's band may use: two bands overlap at a corner."""
 DISAGREE_DEG = 90.0
 """Where the two G0 faces of a seam disagree by more than this (a fold), G1 leaves the seam as it
 is: aligning the normals by flipping one would turn the fold into a tangent fold."""
+PEAK_SAMPLES = 33
+"""Points per seam at which the size of its flux correction is measured (_Seams.flux_peaks)."""
 SHARP_TAPER = 0.1
 """Part of a seam (edge parameter) next to a sharp node over which the G1 correction fades in."""
 
@@ -55,13 +70,23 @@ class G1Face:
 
     surface   : Part.BSplineSurface, boundary identical to the G0 face's
     free_sides: (4,) True where the side has no seam (outer boundary or degenerate): its flux may change
-    offset_mm : largest |S1 - S0| on a grid (how far smoothing moved the face)
+    offset_mm : largest |S1 - S0| (how far smoothing moved the face): the poles' bound where it is
+                within OFFSET_FRACTION, else measured on a grid dense in the bands
+    band_widths: (4,) width of the band beside each side over which its correction fades out
+    kept_g0   : ids of its seams left G0: creases G1 cannot round within OFFSET_FRACTION
+    scaled    : True if even the narrowest bands moved it too far and the correction was scaled
+                down to OFFSET_FRACTION (its seams then keep part of their G0 defect)
+    turned_over: True if the corrected face turned over (a fold) and the face was left G0
     """
 
     region_id: int
     surface: object
     free_sides: tuple
     offset_mm: float
+    band_widths: tuple = (1.0, 1.0, 1.0, 1.0)
+    kept_g0: tuple = ()
+    scaled: bool = False
+    turned_over: bool = False
 
 
 def _refine(surface):
@@ -99,26 +124,56 @@ def refined_surface(surface) -> _Refined:
                     (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots()))
 
 
-def _cubic_coeffs(knots: FloatArray, fn) -> FloatArray:
-    """Coefficients of a cubic polynomial fn(t) in the clamped cubic B-spline basis `knots` (exact)."""
-    return _coeffs(fn, tuple(np.asarray(knots, dtype=float).tolist()))
-
-
 @lru_cache(maxsize=4096)
-def _coeffs(fn, knots: tuple) -> FloatArray:
-    """_cubic_coeffs by value of the knots (read-only): G1 faces share knot vectors (MIN_SPANS
-    uniform knots)."""
-    found = _solve_coeffs(np.asarray(knots, dtype=float), fn)
-    found.setflags(write=False)
-    return found
+def _band_coeffs(knots: tuple, width: float, end: int) -> FloatArray:
+    """Coefficients (n,) of core.continuity.band_blend of `width` beside end 0 (or its mirror
+    -g(1 - t) beside end 1) in the clamped cubic B-spline basis `knots` (a tuple, read-only result).
 
-
-def _solve_coeffs(knots: FloatArray, fn) -> FloatArray:
-    n = len(knots) - 4
-    greville = np.array([knots[i + 1:i + 4].mean() for i in range(n)])
-    c = np.linalg.solve(basis_matrix(knots, greville), fn(greville))
-    c[0] = c[-1] = 0.0
+    Exact where G1 needs it: value 0 and derivative 1 at its end, value and derivative 0 at the
+    other end, coefficients 0 beyond the band (the correction stays inside it); least squares to
+    the blend in between."""
+    k = np.asarray(knots, dtype=float)
+    if end == 1:
+        return -_band_coeffs(tuple((1.0 - k[::-1]).tolist()), width, 0)[::-1]
+    n = len(k) - 4
+    c = np.zeros(n)
+    c[1] = (k[4] - k[0]) / 3.0
+    free = [i for i in range(2, n - 2) if k[i] < width - 1e-12]
+    if free:
+        t = np.unique(np.concatenate([np.linspace(0.0, 1.0, 257), np.linspace(0.0, min(1.0, 1.5 * width), 257)]))
+        a = basis_matrix(k, t)
+        rhs = g1.band_blend(t, width) - a[:, 1] * c[1]
+        c[free] = np.linalg.lstsq(a[:, free], rhs, rcond=None)[0]
+    c.setflags(write=False)
     return c
+
+
+def _band_knots(width: float, end: int) -> list:
+    """Knots a band of `width` beside `end` needs (four spans across it; wider bands have them in
+    the MIN_SPANS uniform knots already)."""
+    if width * MIN_SPANS >= 4.0:
+        return []
+    ks = [width * j / 4.0 for j in range(1, 5)]
+    return ks if end == 0 else [1.0 - x for x in ks]
+
+
+def _with_knots(refined: _Refined, extra_u: list, extra_v: list) -> _Refined:
+    """`refined` with the knots extra_u, extra_v inserted (exact: the surface is unchanged)."""
+    def new(knots, extra):
+        return sorted({round(x, 12) for x in extra if min(abs(x - q) for q in knots) > 1e-9})
+
+    extra_u, extra_v = new(refined.mults_knots[2], extra_u), new(refined.mults_knots[3], extra_v)
+    if not extra_u and not extra_v:
+        return refined
+    s = Part.BSplineSurface()
+    s.buildFromPolesMultsKnots(np.asarray(refined.poles, dtype=float).tolist(), *refined.mults_knots,
+                               False, False, 3, 3)
+    for x in extra_u:
+        s.insertUKnot(float(x), 1, 1e-12)
+    for x in extra_v:
+        s.insertVKnot(float(x), 1, 1e-12)
+    return _Refined(to_array(s.getPoles()), full_knots(s, "U"), full_knots(s, "V"),
+                    (s.getUMultiplicities(), s.getVMultiplicities(), s.getUKnots(), s.getVKnots()))
 
 
 def _fit_flux(knots: FloatArray, w: FloatArray, target: FloatArray, weight: FloatArray,
@@ -153,8 +208,10 @@ def _fit_flux(knots: FloatArray, w: FloatArray, target: FloatArray, weight: Floa
 class _Seams:
     """Which face sides are G1 seams and the common normal along each."""
 
-    def __init__(self, infos, network, sharp: frozenset):
+    def __init__(self, infos, network, sharp: frozenset, limit: float = np.inf):
         self.infos = {f.region_id: f for f in infos}
+        self.limit = limit
+        self._peaks: dict = {}    # edge id -> {region id: largest flux correction}, see flux_peaks()
         self.edges = network.edges()
         self.uses: dict = {}
         for f in infos:
@@ -189,6 +246,34 @@ class _Seams:
                 x = np.clip(dist / SHARP_TAPER, 0.0, 1.0)
                 out = out * (x * x * (3.0 - 2.0 * x))
         return out
+
+    def flux_peaks(self, edge_id: int) -> dict:
+        """{region id: the largest flux correction |D . n| (mm per unit parameter) either face of
+        the seam gets along it}, at PEAK_SAMPLES points, with the taper and the disagreeing parts
+        left out as _side_target leaves them. The same for both faces: a seam is left G0 (kept_g0)
+        on both or on neither."""
+        if edge_id not in self._peaks:
+            ts = np.linspace(0.0, 1.0, PEAK_SAMPLES)
+            normals, ok = self.normals(edge_id, ts)
+            na, nb, _, _ = self._pairs(edge_id, ts)
+            agree = np.einsum("ij,ij->i", na, nb) >= np.cos(np.radians(DISAGREE_DEG))
+            scale = self.taper(edge_id, ts) * agree * ok
+            out = {}
+            for f, k, p in self.uses[edge_id]:
+                w = p.a + ((1.0 - ts) if p.reversed else ts) * (p.b - p.a)
+                ds, dr = f.derived.derivatives.derivatives(*_side_points(k, w))
+                cross = dr if k in (0, 2) else ds
+                size = np.abs(np.einsum("ij,ij->i", cross, normals)) * scale
+                out[f.region_id] = max(out.get(f.region_id, 0.0), float(size.max()))
+            self._peaks[edge_id] = out
+        return self._peaks[edge_id]
+
+    def kept_g0(self, edge_id: int) -> bool:
+        """True where the seam's correction would move a face by more than its share of the bound
+        even in the narrowest band (BAND_WIDTHS): a crease G1 cannot round within OFFSET_FRACTION,
+        left as G0 makes it."""
+        budget = SIDE_SHARE * self.limit / (g1.BAND_PEAK * BAND_WIDTHS[-1])
+        return max(self.flux_peaks(edge_id).values(), default=0.0) > budget
 
     def _pairs(self, edge_id: int, ts: FloatArray, known: tuple | None = None):
         """The two G0 faces' unit normals and the seam tangent at edge parameters ts (m,):
@@ -278,6 +363,9 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
         idx = np.flatnonzero(owner == j)
         if not len(idx):
             continue
+        if seams.kept_g0(piece.edge_id):       # its G0 flux stays
+            weight[idx] = 1.0
+            continue
         t = (w[idx] - piece.a) / (piece.b - piece.a)
         t = np.clip(1.0 - t if piece.reversed else t, 0.0, 1.0)
         normals, ok = seams.normals(piece.edge_id, t, (info, ds_all[idx], dr_all[idx]))
@@ -293,15 +381,27 @@ def _side_target(info, k: int, w: FloatArray, seams: _Seams) -> tuple[FloatArray
     return target, weight
 
 
-def smooth_face(info, network, seams: _Seams, limit: float = np.inf) -> G1Face:
-    """The G1 surface of one G0 FaceInfo (see the module docstring)."""
-    refined = info.derived.refined
+def _band_width(peak: float, limit: float) -> float:
+    """The widest of BAND_WIDTHS whose band moves the face by at most SIDE_SHARE * limit for a flux
+    correction of size `peak` (the narrowest if none does)."""
+    for width in BAND_WIDTHS:
+        if peak * g1.BAND_PEAK * width <= SIDE_SHARE * limit:
+            return width
+    return BAND_WIDTHS[-1]
+
+
+def _narrower(width: float) -> float:
+    i = BAND_WIDTHS.index(width)
+    return BAND_WIDTHS[min(i + 1, len(BAND_WIDTHS) - 1)]
+
+
+def _correction(info, seams: _Seams, widths: tuple, free: tuple, fixed: tuple):
+    """(refined surface with the bands' knots, pole offsets delta (nu, nv, 3), each side's largest
+    move (4,)) of the G1 correction with bands of `widths` beside sides (bottom, right, top, left)."""
+    refined = _with_knots(info.derived.refined, _band_knots(widths[3], 0) + _band_knots(widths[1], 1),
+                          _band_knots(widths[0], 0) + _band_knots(widths[2], 1))
     ku, kv = refined.ku, refined.kv
     side_knots = (ku, kv, ku, kv)
-    free = tuple(not any(p.edge_id in seams.seam for p in pieces) and not any(p.edge_id in seams.sharp
-                                                                            for p in pieces)
-                 for pieces in info.sides)
-    fixed = tuple(any(p.edge_id in seams.sharp for p in pieces) for pieces in info.sides)
     data = []
     for k in range(4):
         kn = side_knots[k]
@@ -339,26 +439,79 @@ def smooth_face(info, network, seams: _Seams, limit: float = np.inf) -> G1Face:
             target = g1.h1(w)[:, None] * t0 + g1.h2(w)[:, None] * t1
             weight = np.ones(len(w))
         coeffs.append(_fit_flux(side_knots[k], w, target, np.maximum(weight, 1e-6), t0, t1))
-    h1u, h2u = _cubic_coeffs(ku, g1.h1), _cubic_coeffs(ku, g1.h2)
-    h1v, h2v = _cubic_coeffs(kv, g1.h1), _cubic_coeffs(kv, g1.h2)
+    # the blends across the sides: band_blend of each side's width (h1, h2 of the Hermite form)
+    tku, tkv = tuple(ku.tolist()), tuple(kv.tolist())
+    bb, bt = _band_coeffs(tkv, widths[0], 0), _band_coeffs(tkv, widths[2], 1)
+    bl, br = _band_coeffs(tku, widths[3], 0), _band_coeffs(tku, widths[1], 1)
     cb, cr, ct, cl = coeffs
-    delta = (cb[:, None, :] * h1v[None, :, None] + ct[:, None, :] * h2v[None, :, None]
-             + h1u[:, None, None] * cl[None, :, :] + h2u[:, None, None] * cr[None, :, :])
+    delta = (cb[:, None, :] * bb[None, :, None] + ct[:, None, :] * bt[None, :, None]
+             + bl[:, None, None] * cl[None, :, :] + br[:, None, None] * cr[None, :, :])
     for (i, j), t in tau.items():
-        bu = h1u if i == 1 else h2u
-        bv = h1v if j == 1 else h2v
+        bu = bl if i == 1 else br
+        bv = bb if j == 1 else bt
         delta -= bu[:, None, None] * bv[None, :, None] * t
-    if float(np.linalg.norm(delta, axis=-1).max()) > limit:    # the poles' bound; then the surface's
-        g = np.linspace(0.0, 1.0, 33)
-        moved = np.einsum("ui,ijk,vj->uvk", basis_matrix(ku, g), delta, basis_matrix(kv, g))
-        size = float(np.linalg.norm(moved, axis=-1).max())
-        if size > limit:    # bounded: G1 may leave a defect, never a large move (OFFSET_FRACTION)
+    sizes = tuple(float(np.linalg.norm(c, axis=-1).max()) * g1.BAND_PEAK * wd for c, wd in zip(coeffs, widths))
+    return refined, delta, sizes
+
+
+def _moved(refined: _Refined, delta: FloatArray, widths: tuple) -> float:
+    """Largest |S1 - S0| (mm): the poles' bound, and where that exceeds nothing, exact on a grid
+    dense inside every band."""
+    g = [np.linspace(0.0, 1.0, 65)]
+    for wd in widths:
+        g += [wd * np.linspace(0.0, 1.0, 17), 1.0 - wd * np.linspace(0.0, 1.0, 17)]
+    g = np.unique(np.concatenate(g))
+    moved = np.einsum("ui,ijk,vj->uvk", basis_matrix(refined.ku, g), delta, basis_matrix(refined.kv, g))
+    return float(np.linalg.norm(moved, axis=-1).max())
+
+
+def smooth_face(info, network, seams: _Seams, limit: float = np.inf) -> G1Face:
+    """The G1 surface of one G0 FaceInfo (see the module docstring), within `limit` (mm) of it.
+
+    Each side's correction fades out over the widest band (BAND_WIDTHS) that keeps the face within
+    the limit; a seam that would need a narrower band is left G0 (_Seams.kept_g0). If the face still
+    moves too far in the narrowest bands, its correction is scaled down to the limit (G1 is then not
+    reached there: `scaled`); if the corrected face turns over (cad.analysis.face_turn_deg beyond
+    FOLD_FACE_DEG, more than the G0 face), the face stays G0 (`turned_over`)."""
+    from dataclasses import replace
+
+    from .analysis import FOLD_FACE_DEG, face_turn_deg
+
+    seam_pieces = [[p for p in pieces if p.edge_id in seams.seam] for pieces in info.sides]
+    kept = tuple(sorted({p.edge_id for ps in seam_pieces for p in ps if seams.kept_g0(p.edge_id)}))
+    free = tuple(not any(p.edge_id in seams.seam for p in pieces) and not any(p.edge_id in seams.sharp
+                                                                            for p in pieces)
+                 for pieces in info.sides)
+    fixed = tuple(any(p.edge_id in seams.sharp for p in pieces) or bool(ps) and all(p.edge_id in kept for p in ps)
+                  for pieces, ps in zip(info.sides, seam_pieces))
+    widths = tuple(_band_width(max((seams.flux_peaks(p.edge_id).get(info.region_id, 0.0)
+                                    for p in ps if p.edge_id not in kept), default=0.0), limit)
+                   for ps in seam_pieces)
+    scaled = False
+    while True:
+        refined, delta, sizes = _correction(info, seams, widths, free, fixed)
+        size = float(np.linalg.norm(delta, axis=-1).max())
+        if size <= limit or (size := _moved(refined, delta, widths)) <= limit:
+            break
+        over = [sz > SIDE_SHARE * limit for sz in sizes]
+        narrower = tuple(_narrower(wd) if (o or not any(over)) else wd for wd, o in zip(widths, over))
+        if narrower == widths:    # bounded: G1 may leave a defect here, never a large move
             delta = delta * (limit / size)
-    poles = refined.poles + delta
+            scaled = True
+            break
+        widths = narrower
     out = Part.BSplineSurface()
-    out.buildFromPolesMultsKnots(np.asarray(poles, dtype=float).tolist(), *refined.mults_knots, False, False, 3, 3)
-    offset = float(np.linalg.norm(delta, axis=-1).max())   # convex hull bound of |S1 - S0|
-    return G1Face(info.region_id, out, free, offset)
+    out.buildFromPolesMultsKnots(np.asarray(refined.poles + delta, dtype=float).tolist(), *refined.mults_knots,
+                                 False, False, 3, 3)
+    turn = face_turn_deg(replace(info, surface=out, face=None))
+    turned_over = turn > FOLD_FACE_DEG and turn > face_turn_deg(info)
+    if turned_over:        # the G0 face, as it is
+        delta = np.zeros_like(delta)
+        out = Part.BSplineSurface()
+        out.buildFromPolesMultsKnots(np.asarray(refined.poles, dtype=float).tolist(), *refined.mults_knots,
+                                     False, False, 3, 3)
+    offset = 0.0 if turned_over else min(size, limit)    # |S1 - S0|: the poles' bound, or the grid's
+    return G1Face(info.region_id, out, free, offset, widths, kept, scaled, turned_over)
 
 
 def _face_key(info, network, seams: _Seams) -> tuple:
@@ -394,9 +547,8 @@ def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
              are unchanged is taken from it.
     keep   : receives this call's {key: G1Face} (reused and new), for the next call."""
     sharp = g1.sharp_edges(network, angle_deg)
-    seams = _Seams(infos, network, sharp)
-    outer = [e.polyline.points for e in network.edges().values() if e.curve_id in OUTER_CURVES]
-    limit = OFFSET_FRACTION * sketch_diagonal(np.vstack(outer)) if outer else np.inf
+    limit = offset_limit_mm(network)
+    seams = _Seams(infos, network, sharp, limit)
     out = []
     for info in infos:
         key = ("g1", _face_key(info, network, seams))
@@ -407,3 +559,23 @@ def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
             keep[key] = face
         out.append(face)
     return tuple(out), sharp
+
+
+def offset_limit_mm(network) -> float:
+    """How far a G1 face may lie from its G0 face: OFFSET_FRACTION of the diagonal of the network's
+    outer boundary (inf without one)."""
+    outer = [e.polyline.points for e in network.edges().values() if e.curve_id in OUTER_CURVES]
+    return OFFSET_FRACTION * sketch_diagonal(np.vstack(outer)) if outer else np.inf
+
+
+def bound_summary(shell, network) -> dict:
+    """What a G1 ShellResult's bound did (for the build report): the bound, the largest move of a
+    face from its G0 face, the seams left G0 (creases that no band within the bound rounds), the
+    faces left G0 because their correction turned them over, and the faces whose correction was
+    scaled down to the bound (their seams keep part of the G0 defect)."""
+    faces = sorted((g for g, _ in shell.cache.g1_shapes.values()), key=lambda g: g.region_id)
+    return {"offset_bound_mm": offset_limit_mm(network),
+            "offset_max_mm": max((g.offset_mm for g in faces), default=0.0),
+            "seams_left_g0": sorted({e for g in faces for e in g.kept_g0}),
+            "faces_left_g0_turned_over": [g.region_id for g in faces if g.turned_over],
+            "faces_scaled_to_bound": [g.region_id for g in faces if g.scaled]}

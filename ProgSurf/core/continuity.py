@@ -262,3 +262,23 @@ class GregoryCoonsPatch:
         ps = (self.evaluate(s1, r) - self.evaluate(s0, r)) / (s1 - s0)[..., None]
         pr = (self.evaluate(s, r1) - self.evaluate(s, r0)) / (r1 - r0)[..., None]
         return ps, pr
+
+
+# ------------------------------------------------------------------------------ bounded corrections
+BAND_PEAK = 27.0 / 256.0
+"""Largest value of band_blend's shape x (1 - x)^3 (at x = 1/4): a band of width w moves the face by
+at most BAND_PEAK * w * |flux correction|."""
+
+
+def band_blend(t: npt.ArrayLike, width: float) -> FloatArray:
+    """Blend of a flux correction across a band of `width` (0 < width <= 1) beside side t = 0:
+    g(t) = width * x (1 - x)^3 with x = t / width, 0 beyond the band.
+
+    g(0) = 0 and g'(0) = 1, as the Hermite h1 (Egorov Eq. 1-4): the cross-boundary derivative gets
+    the correction exactly; g, g' and g'' vanish at the band's edge, so the correction fades out
+    smoothly inside the face and moves it by at most BAND_PEAK * width times the correction. The
+    blend of side t = 1 is -g(1 - t) (derivative 1 there, as h2)."""
+    if not 0.0 < width <= 1.0:
+        raise ProgSurfError(f"band width {width} must lie in (0, 1]")
+    x = np.clip(np.asarray(t, dtype=float) / width, 0.0, 1.0)
+    return width * x * (1.0 - x) ** 3

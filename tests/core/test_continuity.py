@@ -142,3 +142,19 @@ def test_node_normal_spread_measures_disagreeing_corners():
     _, spread = g1.node_normal([np.array([0, 0, 1.0]), g1.unit([0, np.sin(0.1), np.cos(0.1)])])
     assert spread == pytest.approx(np.degrees(0.1), rel=1e-6)
     assert g1.node_normal([None]) == (None, 0.0)
+
+
+@pytest.mark.parametrize("width", [1.0, 0.25, 1.0 / 32.0])
+def test_band_blend_has_the_hermite_start_and_fades_out_inside_its_band(width):
+    h = 1e-7 * width
+    assert g1.band_blend(0.0, width) == 0.0
+    assert (g1.band_blend(h, width) - g1.band_blend(0.0, width)) / h == pytest.approx(1.0, rel=1e-5)
+    beyond = np.linspace(width, 1.0, 50)
+    assert np.all(g1.band_blend(beyond, width) == 0.0)
+    # value, slope and curvature vanish at the band's edge: the correction fades out without a step
+    edge = g1.band_blend(width - np.array([0.0, 1e-3, 2e-3]) * width, width)
+    assert abs(edge[1]) <= 1e-8 * width and abs(edge[0] - 2 * edge[1] + edge[2]) <= 1e-8 * width
+    t = np.linspace(0.0, width, 10001)
+    assert g1.band_blend(t, width).max() == pytest.approx(g1.BAND_PEAK * width, rel=1e-6)
+    with pytest.raises(ProgSurfError, match="band width"):
+        g1.band_blend(t, 0.0)
