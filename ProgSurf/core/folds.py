@@ -140,10 +140,12 @@ def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
     return turn_from_mean_deg(normals, ok)
 
 
-def _seam_uv(e, n: int) -> FloatArray:
-    """Pre-image points (n, 2) of edge view e, 5 %..95 % along it."""
+def _seam_uv(edges: list, n: int) -> FloatArray:
+    """Pre-image points (len(edges), n, 2) of edge views, 5 %..95 % along each."""
     t = np.linspace(0.05, 0.95, n)
-    return e.uv0 + np.outer(t, e.uv1 - e.uv0)
+    uv0 = np.array([e.uv0 for e in edges]).reshape(-1, 2)
+    uv1 = np.array([e.uv1 for e in edges]).reshape(-1, 2)
+    return uv0[:, None, :] + t[None, :, None] * (uv1 - uv0)[:, None, :]
 
 
 def _seam_angle(sides: list[tuple[FloatArray, np.ndarray]]) -> float:
@@ -157,7 +159,7 @@ def _seam_angle(sides: list[tuple[FloatArray, np.ndarray]]) -> float:
 
 def seam_angle_deg(net, eid: int, regions: tuple, n: int = SEAM_SAMPLES) -> float:
     """Largest angle (deg) between the normals of the two regions along edge eid, 5 %..95 %."""
-    uv = _seam_uv(net.edges()[eid], n)
+    uv = _seam_uv([net.edges()[eid]], n)[0]
     return _seam_angle([region_normals(net, rid, *net.uv_to_local(rid, uv)) for rid in regions])
 
 
@@ -175,7 +177,7 @@ def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Itera
              if len(owners) == 2 and set(owners) & todo and edges[eid].curve_id not in sharp]
     faces = sorted(todo)
     pairs = [(eid, rid) for eid, owners in seams for rid in owners]
-    uv = {eid: _seam_uv(edges[eid], SEAM_SAMPLES) for eid, _ in seams}
+    uv = dict(zip([eid for eid, _ in seams], _seam_uv([edges[eid] for eid, _ in seams], SEAM_SAMPLES)))
     local = net.uv_to_local_sets([(rid, uv[eid]) for eid, rid in pairs])
     grid = _face_samples()
     got = normal_sets(net, [(rid, *grid) for rid in faces]

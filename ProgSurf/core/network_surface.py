@@ -110,11 +110,12 @@ class NetworkSurface:
     def uv_to_local_sets(self, sets: list[tuple[int, FloatArray]]) -> list[tuple[FloatArray, FloatArray]]:
         """:meth:`uv_to_local` of several (region id, uv (k, 2)) at once (preimage.inverse_bilinear_sets:
         the same values, the Newton iterations of all of them run together)."""
-        args = []
-        for rid, uv in sets:
-            ids, tri = self.region_corners(rid)
-            args.append((np.array([self._nodes[n].uv for n in ids]), np.atleast_2d(uv), tri))
-        return inverse_bilinear_sets(args)
+        corners: dict = {}
+        for rid, _ in sets:
+            if rid not in corners:
+                ids, tri = self.region_corners(rid)
+                corners[rid] = (np.array([self._nodes[n].uv for n in ids]), tri)
+        return inverse_bilinear_sets([(corners[rid][0], np.atleast_2d(uv), corners[rid][1]) for rid, uv in sets])
 
     def _locator(self) -> tuple:
         """All region edges as half-planes, (start (E,2), direction (E,2), 1/length (E,)), with
