@@ -94,9 +94,27 @@ def _stats(values: list) -> dict:
     return {"n": len(a), "median_ms": float(np.median(a)), "p95_ms": float(np.percentile(a, 95))}
 
 
+LANDING = 0.02
+"""A growth stroke that would take the network past a target size by more than this fraction of
+the target (at least 1 region) is undone and another one drawn, so that each row is measured at its
+size: since the fold repair splits the regions around a crease, one stroke may add 6 or more, and
+the first network of at least 50 regions had 55."""
+
+
 def grow(sizes: list[int], surface: str = "saddle", seed: int = 1, tol: Tolerances = BENCH_TOL):
-    """grow_networks keeping only strokes the adapter can fit: (target -> network, growth counts)."""
-    return grow_networks(SURFACES[surface], sizes, seed=seed, tol=tol, keep=lambda a, b, r: fits(a, b, tol))
+    """grow_networks keeping only strokes the adapter can fit and that do not overshoot a target
+    (LANDING): (target -> network, growth counts; "dropped" counts the strokes the adapter could
+    not fit, "overshot" those undone for overshooting)."""
+    overshot = []
+
+    def keep(before, after, rec) -> bool:
+        if any(len(before) < t < len(after) - max(1, int(LANDING * t)) for t in sizes):
+            overshot.append(rec.index)
+            return False
+        return fits(before, after, tol)
+
+    nets, counts = grow_networks(SURFACES[surface], sizes, seed=seed, tol=tol, keep=keep)
+    return nets, dict(counts, dropped=counts["dropped"] - len(overshot), overshot=len(overshot))
 
 
 def measure_latency(nets: dict, growth: dict, probes: int, shell_probes: dict, surface: str = "saddle",

@@ -178,7 +178,9 @@ def main(argv: list[str] | None = None) -> int:
         f"the start, {clock['reference_end_ms']:.1f} ms at the end.",
         "## 1. Interactive latency (saddle, random strokes)",
         f"Growth strokes: {growth['accepted']} kept, {growth['rejected']} rejected by the core, "
-        f"{growth['dropped']} dropped because the CAD adapter could not fit them.",
+        f"{growth['dropped']} dropped because the CAD adapter could not fit them, "
+        f"{growth.get('overshot', 0)} undone because they took the network past a row's size "
+        f"(latency.LANDING).",
         report.latency_table(lat), report.target_lines(lat),
         "incremental = core + cad.build_shell(previous=shell of the network before the stroke): "
         "unchanged curves and faces reused; of a curve the stroke split or pulled only the changed "

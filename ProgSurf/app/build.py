@@ -8,7 +8,7 @@
 :func:`build_and_measure` runs these steps for both callers: the Surface feature on recompute
 (app.surface_object) and the command line (cli.run_build, which then exports the files, writes the
 report made by :func:`build_report` and prints its summary). The Analyse and Export commands call
-:func:`face_values` and :func:`export_shape`.
+:func:`face_values` and :func:`export_shape`, the surface's view provider :func:`failing_faces`.
 
 One sample rule for every caller:
 
@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Mapping, Optional, Sequence
 
 import numpy as np
@@ -96,15 +98,18 @@ class Analysis:
         """How far region rid's face may lie from its Coons sub-patch (fit_allowance_by_region)."""
         return self.fit_allowance_by_region.get(rid, self.fit_tolerance_mm)
 
-    @property
-    def fit_over(self) -> dict:
+    @cached_property
+    def fit_over(self) -> Mapping:
         """region id -> fit deviation of the faces that lie further from their Coons sub-patch
-        than the fit tolerance allows them (the fit tolerance plus their sides' chord sag)."""
-        return {rid: d for rid, d in self.fit_deviation_by_region.items() if d > self.fit_allowance(rid)}
+        than the fit tolerance allows them (the fit tolerance plus their sides' chord sag).
+        Computed once (read-only: the Analysis does not change)."""
+        return MappingProxyType({rid: d for rid, d in self.fit_deviation_by_region.items()
+                                 if d > self.fit_allowance(rid)})
 
-    @property
-    def problems(self) -> list[str]:
-        """What fails the quality checks, one short phrase each; empty when the build is sound."""
+    @cached_property
+    def problems(self) -> tuple[str, ...]:
+        """What fails the quality checks, one short phrase each; empty when the build is sound.
+        Computed once (the verdict, the report and the document each read it)."""
         out = [f.describe() for f in self.folds]
         over = self.fit_over
         if over:
@@ -112,7 +117,13 @@ class Analysis:
             out.append(f"{len(over)} face(s) lie further from their Coons sub-patch than the fit tolerance "
                        f"{self.fit_tolerance_mm:.3g} mm and their sides' chord sag allow (region {rid}: "
                        f"{over[rid]:.3g} mm, allowed {self.fit_allowance(rid):.3g} mm)")
-        return out
+        return tuple(out)
+
+    @cached_property
+    def failing_regions(self) -> frozenset:
+        """Region ids of the faces a quality check fails on: both faces of a creased seam, a face
+        that turns over, a face over its fit allowance (the faces the problems name)."""
+        return frozenset(r for f in self.folds for r in f.regions) | frozenset(self.fit_over)
 
     def verdict(self) -> str:
         """One line: "quality: ok" or "quality: WARNING ..." naming the first problems."""
@@ -310,6 +321,17 @@ def quality_section(analysis: Analysis) -> dict:
             "fit_allowance_max_mm": max(analysis.fit_allowance_by_region.values(),
                                         default=analysis.fit_tolerance_mm),
             "faces_over_fit_tolerance": {str(k): v for k, v in analysis.fit_over.items()}}
+
+
+def failing_faces(surface) -> Optional[list]:
+    """Per face of the surface's last build, in Shape.Faces order: whether a quality check fails on
+    it (Analysis.failing_regions: a fold, or over its fit allowance). None when the surface has no
+    build in memory that matches its Shape."""
+    analysis = getattr(surface.Proxy, "analysis", None)
+    if analysis is None or len(analysis.region_of_face) != len(surface.Shape.Faces):
+        return None
+    failing = analysis.failing_regions
+    return [rid in failing for rid in analysis.region_of_face]
 
 
 def face_values(surface, mode: str) -> Optional[list]:

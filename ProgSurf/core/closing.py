@@ -14,7 +14,7 @@ import numpy.typing as npt
 
 from .errors import InvalidOptionError, InvalidStrokeError, OpenBoundaryError
 from .stroke_order import order_strokes
-from .strokes import chord_length, cumulative_length, point_at_length
+from .strokes import chord_length, cumulative_length, point_at_length, ramp
 from .types import FloatArray, Tolerances
 
 END_TANGENT_FRACTION = 0.1
@@ -243,14 +243,10 @@ def _check_simple(sides: Sequence[ClosedSide], origin: FloatArray, axes: FloatAr
                 "around the surface, or name the boundary strokes explicitly")
 
 
-RAMP_SLOPE = 0.05
-"""The corner is the 3D midpoint of the two strokes' points there, so each stroke is off it by half
-their distance in depth. That offset is spread over the stroke's last stretch, |offset| / RAMP_SLOPE
-long (at most a third of the stroke), instead of a jump in its last segment (a hook at the corner)."""
-
-
 def _ramp_to_corners(inner: FloatArray, before: _Corner, after: _Corner) -> FloatArray:
-    """Stroke points between two corners, moved so that they run smoothly into both corner points."""
+    """Stroke points between two corners, moved so that they run smoothly into both corner points.
+    The corner is the 3D midpoint of the two strokes' points there, so each stroke is off it by half
+    their distance in depth: strokes.ramp spreads that over the stroke's last stretch."""
     if len(inner) < 2:
         return inner
     run = cumulative_length(inner)
@@ -261,13 +257,9 @@ def _ramp_to_corners(inner: FloatArray, before: _Corner, after: _Corner) -> Floa
     for corner, own, dist in ((before, before.own_b, run), (after, after.own_a, total - run)):
         if own is None:
             continue
-        delta = np.asarray(corner.point, dtype=float) - np.asarray(own, dtype=float)
-        size = float(np.linalg.norm(delta))
-        if size <= 0:
-            continue
-        reach = min(size / RAMP_SLOPE, total / 3.0)
-        w = np.clip(1.0 - dist / reach, 0.0, 1.0)
-        out += (w * w * (3.0 - 2.0 * w))[:, None] * delta    # smoothstep: no slope jump where it starts
+        offset = ramp(dist, np.asarray(corner.point, dtype=float) - np.asarray(own, dtype=float), total)
+        if offset is not None:
+            out += offset
     return out
 
 

@@ -66,6 +66,19 @@ def _derivative(curve: Curve, t: FloatArray, h: float = 1e-6) -> FloatArray:
     return (curve(hi) - curve(lo)) / (hi - lo)[..., None]
 
 
+def coons_blend(u: FloatArray, v: FloatArray, sides: tuple, corners: FloatArray) -> FloatArray:
+    """Eq. (1) at (u, v) (...,) from its sides' points there: sides = (p(u,0), p(1,v), p(u,1),
+    p(0,v)), each (..., 3), and corners (4, 3) p(0,0), p(1,0), p(1,1), p(0,1) (or (4, ..., 3), one
+    set per point: several patches at once)."""
+    bottom, right, top, left = sides
+    p00, p10, p11, p01 = corners
+    fu1, fu2 = f1(u)[..., None], f2(u)[..., None]
+    fv1, fv2 = f1(v)[..., None], f2(v)[..., None]
+    ruled = fu1 * left + fu2 * right + fv1 * bottom + fv2 * top
+    corner = fu1 * (fv1 * p00 + fv2 * p01) + fu2 * (fv1 * p10 + fv2 * p11)
+    return ruled - corner
+
+
 @dataclass(frozen=True)
 class CoonsPatch:
     """Bicubically blended Coons patch P(u,v) on [0,1]^2 (Qin & Wright Eq. 1).
@@ -94,12 +107,7 @@ class CoonsPatch:
     def evaluate(self, u: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
         """Points P(u,v); u and v broadcast together; returns (..., 3)."""
         u, v = np.broadcast_arrays(np.asarray(u, dtype=float), np.asarray(v, dtype=float))
-        p00, p10, p11, p01 = self.corners()
-        fu1, fu2 = f1(u)[..., None], f2(u)[..., None]
-        fv1, fv2 = f1(v)[..., None], f2(v)[..., None]
-        ruled = fu1 * self.left(v) + fu2 * self.right(v) + fv1 * self.bottom(u) + fv2 * self.top(u)
-        corner = fu1 * (fv1 * p00 + fv2 * p01) + fu2 * (fv1 * p10 + fv2 * p11)
-        return ruled - corner
+        return coons_blend(u, v, (self.bottom(u), self.right(v), self.top(u), self.left(v)), self.corners())
 
     def grid(self, u: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
         """Points on the tensor grid u x v: returns (len(u), len(v), 3)."""

@@ -18,10 +18,11 @@ oriented alike and an inverted neighbour reads near 180 deg.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterable, Optional
+from typing import Iterable, Optional, Sequence
 
 import numpy as np
 
+from .preimage import clip01
 from .types import FloatArray
 
 SEAM_FOLD_DEG = 55.0
@@ -55,29 +56,64 @@ def _unit(v: FloatArray) -> tuple[FloatArray, np.ndarray]:
     return v / np.where(ok, n, 1.0)[..., None], ok
 
 
-def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    """Unit normals (k, 3) of region rid's sub-patch at local (s, r) (k,), and which are defined."""
-    s = np.asarray(s, dtype=float)
-    r = np.asarray(r, dtype=float)
-    s0, s1 = np.clip(s - _STEP, 0, 1), np.clip(s + _STEP, 0, 1)
-    r0, r1 = np.clip(r - _STEP, 0, 1), np.clip(r + _STEP, 0, 1)
-    ss = np.concatenate([s0, s1, s, s])
-    rr = np.concatenate([r, r, r0, r1])
-    p = net.evaluate_region(rid, ss, rr).reshape(4, len(s), 3)
-    du = (p[1] - p[0]) / (s1 - s0)[:, None]
-    dv = (p[3] - p[2]) / (r1 - r0)[:, None]
+def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list[tuple[FloatArray, np.ndarray]]:
+    """:func:`region_normals` of several (region id, s (k,), r (k,)) (k > 0) at once: the fold
+    checks sample every region they look at inside and along each of its seams, and all of it is
+    evaluated together (NetworkSurface.evaluate_regions). Every value is the one region_normals
+    gives for its set alone: the arithmetic is per sample, and what is relative (which normals are
+    defined) is relative within each set. Returns [(unit normals (k, 3), defined (k,))] per job."""
+    if not jobs:
+        return []
+    by_region: dict[int, list[int]] = {}
+    for i, (rid, _, _) in enumerate(jobs):
+        by_region.setdefault(rid, []).append(i)
+    order = [i for held in by_region.values() for i in held]
+    sizes = [len(jobs[i][1]) for i in order]
+    starts = np.cumsum([0] + sizes[:-1])
+    s = np.concatenate([np.asarray(jobs[i][1], dtype=float) for i in order])
+    r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
+    s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
+    r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
+    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1)
+    blocks, first, count, at = [], [], [], 0
+    for rid, held in by_region.items():
+        m = sum(len(jobs[i][1]) for i in held)
+        a, b = at, at + m
+        blocks.append((rid, np.concatenate([s0[a:b], s1[a:b], s[a:b], s[a:b]]),
+                       np.concatenate([r[a:b], r[a:b], r0[a:b], r1[a:b]])))
+        first.append(4 * a + np.arange(m))
+        count.append(np.full(m, m))
+        at = b
+    p = net.evaluate_regions(blocks)
+    i0, m = np.concatenate(first), np.concatenate(count)
+    du = (p[i0 + m] - p[i0]) / (s1 - s0)[:, None]
+    dv = (p[i0 + 3 * m] - p[i0 + 2 * m]) / (r1 - r0)[:, None]
     n = np.cross(du, dv)
-    lu, lv = np.linalg.norm(du, axis=1), np.linalg.norm(dv, axis=1)
-    unit, ok = _unit(n)
-    ok &= np.linalg.norm(n, axis=1) > 1e-6 * np.maximum(lu * lv, 1e-300)
+    lu, lv, ln = (np.linalg.norm(x, axis=1) for x in (du, dv, n))
+
+    def per_set(values: FloatArray) -> FloatArray:
+        return np.repeat(np.maximum.reduceat(values, starts), sizes)
+
+    ok = ln > 1e-12 * np.maximum(per_set(ln), 1e-300)
+    unit = n / np.where(ok, ln, 1.0)[:, None]
+    ok &= ln > 1e-6 * np.maximum(lu * lv, 1e-300)
     # on (or next to) a collapsed side one derivative is round-off: its direction means nothing
-    size = max(float(np.max(lu, initial=0.0)), float(np.max(lv, initial=0.0)), 1e-300)
+    size = np.maximum(np.maximum(per_set(lu), per_set(lv)), 1e-300)
     ok &= (lu > 1e-6 * size) & (lv > 1e-6 * size)
-    return unit, ok
+    out: list = [None] * len(jobs)
+    for i, a, k in zip(order, starts, sizes):
+        out[i] = (unit[a:a + k], ok[a:a + k])
+    return out
+
+
+def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """Unit normals (k, 3) of region rid's sub-patch at local (s, r) (k,), by central differences
+    of step _STEP (one-sided at the sides), and which are defined."""
+    return normal_sets(net, [(rid, s, r)])[0]
 
 
 def _angle(a: FloatArray, b: FloatArray) -> FloatArray:
-    return np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)))
+    return np.degrees(np.arccos(np.minimum(np.maximum(np.einsum("ij,ij->i", a, b), -1.0), 1.0)))
 
 
 def turn_from_mean_deg(normals: FloatArray, ok: np.ndarray) -> float:
@@ -91,52 +127,71 @@ def turn_from_mean_deg(normals: FloatArray, ok: np.ndarray) -> float:
     return float(_angle(normals[ok], np.broadcast_to(mean, normals[ok].shape)).max())
 
 
-def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
-    """Largest angle (deg) between a normal of region rid and the region's mean normal."""
+def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
+    """Local (s, r) of an n x n grid over a region, (n*n,) each."""
     g = np.linspace(0.0, 1.0, n)
     s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-    normals, ok = region_normals(net, rid, s, r)
+    return s, r
+
+
+def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
+    """Largest angle (deg) between a normal of region rid and the region's mean normal."""
+    normals, ok = region_normals(net, rid, *_face_samples(n))
     return turn_from_mean_deg(normals, ok)
+
+
+def _seam_uv(edges: list, n: int) -> FloatArray:
+    """Pre-image points (len(edges), n, 2) of edge views, 5 %..95 % along each."""
+    t = np.linspace(0.05, 0.95, n)
+    uv0 = np.array([e.uv0 for e in edges]).reshape(-1, 2)
+    uv1 = np.array([e.uv1 for e in edges]).reshape(-1, 2)
+    return uv0[:, None, :] + t[None, :, None] * (uv1 - uv0)[:, None, :]
+
+
+def _seam_angle(sides: list[tuple[FloatArray, np.ndarray]]) -> float:
+    """Largest angle (deg) between the two regions' normals at the samples both define."""
+    (n0, ok0), (n1, ok1) = sides
+    ok = ok0 & ok1
+    if not ok.any():
+        return 0.0
+    return float(_angle(n0[ok], n1[ok]).max())
 
 
 def seam_angle_deg(net, eid: int, regions: tuple, n: int = SEAM_SAMPLES) -> float:
     """Largest angle (deg) between the normals of the two regions along edge eid, 5 %..95 %."""
-    e = net.edges()[eid]
-    t = np.linspace(0.05, 0.95, n)
-    uv = e.uv0 + np.outer(t, e.uv1 - e.uv0)
-    normals, oks = [], []
-    for rid in regions:
-        s, r = net.uv_to_local(rid, uv)
-        nrm, ok = region_normals(net, rid, np.clip(s, 0, 1), np.clip(r, 0, 1))
-        normals.append(nrm)
-        oks.append(ok)
-    ok = oks[0] & oks[1]
-    if not ok.any():
-        return 0.0
-    return float(_angle(normals[0][ok], normals[1][ok]).max())
+    uv = _seam_uv([net.edges()[eid]], n)[0]
+    return _seam_angle([region_normals(net, rid, *net.uv_to_local(rid, uv)) for rid in regions])
 
 
 def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Iterable[int] = ()) -> list[Fold]:
     """Every fold of the network among ``regions`` (default: all) and the seams they share with
-    any neighbour. ``sharp_curves``: curves drawn sharp, whose seams may crease."""
+    any neighbour. ``sharp_curves``: curves drawn sharp, whose seams may crease.
+
+    The same checks as face_turn_deg and seam_angle_deg, with the same values, all evaluated
+    together (normal_sets): one call per check was most of a stroke's time."""
     live = set(net.region_ids)
     todo = live if regions is None else set(regions) & live
     sharp = set(sharp_curves)
+    edges = net.edges()
+    seams = [(eid, tuple(owners)) for eid, owners in net.edge_regions().items()
+             if len(owners) == 2 and set(owners) & todo and edges[eid].curve_id not in sharp]
+    faces = sorted(todo)
+    pairs = [(eid, rid) for eid, owners in seams for rid in owners]
+    uv = dict(zip([eid for eid, _ in seams], _seam_uv([edges[eid] for eid, _ in seams], SEAM_SAMPLES)))
+    local = net.uv_to_local_sets([(rid, uv[eid]) for eid, rid in pairs])
+    grid = _face_samples()
+    got = normal_sets(net, [(rid, *grid) for rid in faces]
+                      + [(rid, s, r) for (_, rid), (s, r) in zip(pairs, local)])
+    normals = dict(zip([(rid, "face") for rid in faces] + [(rid, eid) for eid, rid in pairs], got))
     out: list[Fold] = []
-    for rid in sorted(todo):
-        turn = face_turn_deg(net, rid)
+    for rid in faces:
+        turn = turn_from_mean_deg(*normals[rid, "face"])
         if turn > FACE_TURN_DEG:
             out.append(Fold("face", turn, (rid,)))
-    edges = net.edges()
-    for eid, owners in net.edge_regions().items():
-        if len(owners) != 2 or not (set(owners) & todo):
-            continue
-        cid = edges[eid].curve_id
-        if cid in sharp:
-            continue
-        angle = seam_angle_deg(net, eid, tuple(owners))
+    for eid, owners in seams:
+        angle = _seam_angle([normals[rid, eid] for rid in owners])
         if angle > SEAM_FOLD_DEG:
-            out.append(Fold("seam", angle, tuple(owners), eid, cid))
+            out.append(Fold("seam", angle, owners, eid, edges[eid].curve_id))
     return out
 
 

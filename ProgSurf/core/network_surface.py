@@ -13,11 +13,11 @@ from functools import lru_cache
 
 import numpy as np
 
-from .coons import CoonsPatch
+from .coons import CoonsPatch, coons_blend
 from .footpoint import Facets, Footpoint, footpoint, prepare, real_footpoint
 from .network_views import pruned
-from .preimage import bilinear, cross2, inverse_bilinear
-from .types import FloatArray, Polyline
+from .preimage import bilinear, cross2, inverse_bilinear_sets
+from .types import FloatArray, Polyline, evaluate_polylines
 
 NEAR_REGIONS = 4
 """Footpoints are first searched in this many regions nearest (by bounding box) to the point."""
@@ -82,6 +82,21 @@ class NetworkSurface:
         """3D points of region rid's Coons sub-patch at local (s, r) in [0,1]^2; (..., 3)."""
         return self.patch(rid).evaluate(s, r)
 
+    def evaluate_regions(self, sets: list[tuple[int, FloatArray, FloatArray]]) -> FloatArray:
+        """:meth:`evaluate_region` of several (region id, s (k,), r (k,)) at once, concatenated
+        (sum k, 3): the same values, the sub-patches' sides and blends evaluated together."""
+        sides, corners = [], []
+        for rid, s, r in sets:
+            patch = self.patch(rid)
+            sides.append(tuple(side.polyline for side in self._patches[rid][1].sides))
+            corners.append(np.broadcast_to(patch.corners()[:, None], (4, len(s), 3)))
+        u = np.concatenate([np.asarray(s, dtype=float) for _, s, _ in sets])
+        v = np.concatenate([np.asarray(r, dtype=float) for _, _, r in sets])
+        # bottom and top at s, right and left at r (Eq. 1), all sets' points of one side together
+        jobs = [(poly[i], s if i % 2 == 0 else r) for i in range(4) for poly, (_, s, r) in zip(sides, sets)]
+        pts = evaluate_polylines(jobs).reshape(4, len(u), 3)
+        return coons_blend(u, v, tuple(pts), np.concatenate(corners, axis=1))
+
     def local_to_uv(self, rid: int, s: FloatArray | float, r: FloatArray | float) -> FloatArray:
         """Pre-image points (..., 2) of region rid's local (s, r): the bilinear map of its corners."""
         (c0, c1, c2, c3), _ = self.region_corners(rid)
@@ -90,9 +105,17 @@ class NetworkSurface:
 
     def uv_to_local(self, rid: int, uv: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Local (s, r) of pre-image points uv (k, 2) in region rid: the inverse of local_to_uv."""
-        ids, tri = self.region_corners(rid)
-        corners = np.array([self._nodes[n].uv for n in ids])
-        return inverse_bilinear(corners, np.atleast_2d(uv), tri)
+        return self.uv_to_local_sets([(rid, uv)])[0]
+
+    def uv_to_local_sets(self, sets: list[tuple[int, FloatArray]]) -> list[tuple[FloatArray, FloatArray]]:
+        """:meth:`uv_to_local` of several (region id, uv (k, 2)) at once (preimage.inverse_bilinear_sets:
+        the same values, the Newton iterations of all of them run together)."""
+        corners: dict = {}
+        for rid, _ in sets:
+            if rid not in corners:
+                ids, tri = self.region_corners(rid)
+                corners[rid] = (np.array([self._nodes[n].uv for n in ids]), tri)
+        return inverse_bilinear_sets([(corners[rid][0], np.atleast_2d(uv), corners[rid][1]) for rid, uv in sets])
 
     def _locator(self) -> tuple:
         """All region edges as half-planes, (start (E,2), direction (E,2), 1/length (E,)), with

@@ -4,6 +4,8 @@ Every curve's pre-image is a straight segment; every region is a convex 3- or 4-
 """
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
 import numpy.typing as npt
 
@@ -71,23 +73,54 @@ def bilinear(corners: FloatArray, s: npt.ArrayLike, r: npt.ArrayLike) -> FloatAr
     return (1 - s) * (1 - r) * c0 + s * (1 - r) * c1 + s * r * c2 + (1 - s) * r * c3
 
 
+def clip01(x: FloatArray) -> FloatArray:
+    """x clamped to [0, 1], as np.clip gives it (whose checks of its scalar bounds cost more
+    than the arithmetic on the few points of a pre-image query)."""
+    return np.minimum(np.maximum(x, 0.0), 1.0)
+
+
 def inverse_bilinear(corners: FloatArray, uv: FloatArray, triangle: bool) -> tuple[FloatArray, FloatArray]:
     """Local (s, r) in [0,1]^2 of pre-image points uv (k, 2) in a region with corners (4, 2).
 
     A triangle (c3 == c2) maps r to the barycentric weight of the apex c2 and s along c0->c1,
     the collapsed top of Qin & Wright Fig. 4. Quads use Newton's method on the bilinear map.
     """
-    uv = np.atleast_2d(np.asarray(uv, dtype=float))
-    c0, c1, c2, c3 = corners
-    if triangle:
+    return inverse_bilinear_sets([(corners, uv, triangle)])[0]
+
+
+def inverse_bilinear_sets(sets: Sequence[tuple[FloatArray, FloatArray, bool]]) -> list[tuple[FloatArray, FloatArray]]:
+    """:func:`inverse_bilinear` of several (corners (4, 2), uv (k, 2), triangle) at once: the quads'
+    Newton iterations run together, each set stopping when its own steps are below 1e-14 (as it
+    would alone), so every (s, r) is the one inverse_bilinear gives for its set alone."""
+    out: list = [None] * len(sets)
+    quads = []
+    for i, (corners, uv, triangle) in enumerate(sets):
+        uv = np.atleast_2d(np.asarray(uv, dtype=float))
+        corners = np.asarray(corners, dtype=float)
+        if not triangle:
+            if len(uv):
+                quads.append((i, corners, uv))
+            else:
+                out[i] = (np.zeros(0), np.zeros(0))
+            continue
+        c0, c1, c2, _ = corners
         m = np.column_stack([c1 - c0, c2 - c0])
         lam = np.linalg.solve(m, (uv - c0).T).T                  # weights of c1, c2
-        r = np.clip(lam[:, 1], 0.0, 1.0)
+        r = clip01(lam[:, 1])
         base = 1.0 - lam[:, 1]
         s = np.where(base > 1e-12, lam[:, 0] / np.where(base > 1e-12, base, 1.0), 0.5)
-        return np.clip(s, 0.0, 1.0), r
+        out[i] = (clip01(s), r)
+    if not quads:
+        return out
+    sizes = [len(uv) for _, _, uv in quads]
+    starts = np.cumsum([0] + sizes[:-1])
+    uv = np.concatenate([uv for _, _, uv in quads])
+    corners = np.repeat(np.stack([c for _, c, _ in quads], axis=1), sizes, axis=1)    # (4, k, 2)
+    c0, c1, c2, c3 = corners
     s = np.full(len(uv), 0.5)
     r = np.full(len(uv), 0.5)
+    running = np.ones(len(quads), dtype=bool)
+    moving = np.ones(len(uv), dtype=bool)
     for _ in range(30):
         f = bilinear(corners, s, r) - uv
         ds = (1 - r)[:, None] * (c1 - c0) + r[:, None] * (c2 - c3)
@@ -96,11 +129,16 @@ def inverse_bilinear(corners: FloatArray, uv: FloatArray, triangle: bool) -> tup
         det = np.where(np.abs(det) < 1e-300, 1e-300, det)
         step_s = cross2(f, dr) / det
         step_r = cross2(ds, f) / det
-        s = s - step_s
-        r = r - step_r
-        if np.max(np.abs(step_s) + np.abs(step_r)) < 1e-14:
+        s = np.where(moving, s - step_s, s)
+        r = np.where(moving, r - step_r, r)
+        running &= ~(np.maximum.reduceat(np.abs(step_s) + np.abs(step_r), starts) < 1e-14)
+        if not running.any():
             break
-    return np.clip(s, 0.0, 1.0), np.clip(r, 0.0, 1.0)
+        moving = np.repeat(running, sizes)
+    s, r = clip01(s), clip01(r)
+    for (i, _, _), a, k in zip(quads, starts, sizes):
+        out[i] = (s[a:a + k], r[a:a + k])
+    return out
 
 
 def ray_exit(p: FloatArray, direction: FloatArray, poly: FloatArray) -> float:

@@ -15,9 +15,8 @@ import numpy as np
 
 from .errors import StrokeOutsideSurfaceError, StrokeRejectedError
 from .network import EdgeSegments, PatchNetwork
-from .closing import RAMP_SLOPE
 from .preimage import ray_exit
-from .strokes import cumulative_length
+from .strokes import cumulative_length, ramp
 from .types import FloatArray
 
 Snap = tuple
@@ -96,7 +95,7 @@ def run_into(pts: FloatArray, j: int, target: FloatArray) -> FloatArray:
     The cut is where the snap point projects onto the stroke (on the segments around vertex j),
     not at vertex j itself, so the kept part cannot turn back; the remaining offset from the cut
     to the snap point is spread over the stroke's first stretch (as the boundary closing spreads
-    its corner offsets, closing.RAMP_SLOPE), instead of a jump in one segment (a hook)."""
+    its corner offsets: strokes.ramp), instead of a jump in one segment (a hook)."""
     best = (np.inf, j, 0.0)
     for k in (j - 1, j):
         if 0 <= k < len(pts) - 1:
@@ -113,20 +112,9 @@ def run_into(pts: FloatArray, j: int, target: FloatArray) -> FloatArray:
     # the cut on the next vertex up to round-off (of the coordinates: 1e-12 mm at 100 mm)
     if len(kept) > 2 and np.linalg.norm(kept[1] - kept[0]) <= 1e-14 * float(np.abs(kept[:2]).max()):
         kept = np.delete(kept, 1, axis=0)
-    delta = np.asarray(target, dtype=float) - kept[0]
-    size = float(np.linalg.norm(delta))
-    if size <= 0 or len(kept) < 2:
-        kept = kept.copy()
-        kept[0] = target
-        return kept
     run = cumulative_length(kept)
-    reach = min(size / RAMP_SLOPE, float(run[-1]) / 3.0)
-    if not reach > 0:
-        kept = kept.copy()
-        kept[0] = target
-        return kept
-    wgt = np.clip(1.0 - run / reach, 0.0, 1.0)
-    out = kept + (wgt * wgt * (3.0 - 2.0 * wgt))[:, None] * delta
+    offset = ramp(run, np.asarray(target, dtype=float) - kept[0], float(run[-1]))
+    out = kept.copy() if offset is None else kept + offset
     out[0] = target
     return out
 

@@ -103,6 +103,29 @@ def corner_angle_deg(a: npt.ArrayLike, b: npt.ArrayLike, reach: float = 0.1) -> 
     return float(np.degrees(np.arccos(np.clip(dirs[0] @ dirs[1], -1.0, 1.0))))
 
 
+RAMP_SLOPE = 0.05
+"""An offset given to a stroke's end (a boundary stroke's end moved to its corner, the closing; an
+interior stroke's cut end moved to its snap point, step (2)) is spread over the stroke's last
+stretch, |offset| / RAMP_SLOPE long (at most a third of the stroke), instead of a jump in its last
+segment (a hook)."""
+
+
+def ramp(dist: FloatArray, delta: FloatArray, total: float) -> FloatArray | None:
+    """The offsets (n, 3) that move stroke points at arc length dist (n,) from one end by delta (3,)
+    there, fading to none at min(|delta| / RAMP_SLOPE, total / 3) along the stroke (total: its
+    length) by a smoothstep, so that the stroke's slope has no jump where the ramp starts.
+    None when there is nothing to spread (delta 0, or no length to spread it over)."""
+    delta = np.asarray(delta, dtype=float)
+    size = float(np.linalg.norm(delta))
+    if size <= 0:
+        return None
+    reach = min(size / RAMP_SLOPE, total / 3.0)
+    if not reach > 0:
+        return None
+    w = np.clip(1.0 - dist / reach, 0.0, 1.0)
+    return (w * w * (3.0 - 2.0 * w))[:, None] * delta
+
+
 def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike) -> FloatArray:
     """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d)."""
     pts = np.asarray(points, dtype=float)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Optional
+from typing import Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -64,6 +64,49 @@ class Tolerances:
         return self.sag_mm if self.fair_mm else None
 
 
+def _span(params: FloatArray, t: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """t clamped to the params' range and the index of the segment that holds it."""
+    tc = np.minimum(np.maximum(t, params[0]), params[-1])
+    return tc, np.minimum(np.searchsorted(params, tc, side="right") - 1, len(params) - 2)
+
+
+def _lerp(points: FloatArray, params: FloatArray, k: np.ndarray, tc: FloatArray) -> FloatArray:
+    """Points at tc on segments k (indices into points and params)."""
+    w = ((tc - params[k]) / (params[k + 1] - params[k]))[..., None]
+    return points[k] * (1.0 - w) + points[k + 1] * w
+
+
+def evaluate_polylines(jobs: Sequence[tuple["Polyline", FloatArray]]) -> FloatArray:
+    """Polyline.evaluate of several (polyline, parameters (k,)) at once, concatenated (sum k, 3):
+    one segment search per job, the interpolation of all of them together (the same values as
+    one by one)."""
+    jobs = [(poly, np.asarray(t, dtype=float)) for poly, t in jobs]
+    start: dict = {}                         # each polyline's points once, however often it is used
+    used, total = [], 0
+    for poly, _ in jobs:
+        if id(poly) not in start:
+            start[id(poly)] = total
+            total += len(poly.params)
+            used.append(poly)
+    pts = np.concatenate([p.points for p in used])
+    prm = np.concatenate([p.params for p in used])
+    tcs, ks, single = [], [], []
+    for i, (poly, t) in enumerate(jobs):
+        if len(poly.params) < 2:             # one point (Polyline.evaluate): filled in below
+            single.append(i)
+            t = t[:0]
+        tc, k = _span(poly.params, t)
+        tcs.append(tc)
+        ks.append(k + start[id(poly)])
+    out = _lerp(pts, prm, np.concatenate(ks), np.concatenate(tcs))
+    if single:
+        sizes = [len(t) for _, t in jobs]
+        starts = np.cumsum([0] + sizes[:-1])
+        for i in single:
+            out = np.insert(out, starts[i], jobs[i][0].evaluate(jobs[i][1]), axis=0)
+    return out
+
+
 @dataclass(frozen=True)
 class Polyline:
     """A 3D polyline with its pre-image parameters.
@@ -90,10 +133,8 @@ class Polyline:
         prm, pts = self.params, self.points
         if len(prm) < 2:
             return np.broadcast_to(pts[0], t.shape + (3,)).copy()
-        tc = np.minimum(np.maximum(t, prm[0]), prm[-1])
-        k = np.minimum(np.searchsorted(prm, tc, side="right") - 1, len(prm) - 2)
-        w = ((tc - prm[k]) / (prm[k + 1] - prm[k]))[..., None]
-        return pts[k] * (1.0 - w) + pts[k + 1] * w
+        tc, k = _span(prm, t)
+        return _lerp(pts, prm, k, tc)
 
     def reversed(self) -> "Polyline":
         return Polyline(self.points[::-1], 1.0 - self.params[::-1])

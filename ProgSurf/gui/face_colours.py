@@ -1,11 +1,16 @@
 """Faces coloured by an analysis value: the surface's ``ColourBy`` view property.
 
 The view provider of the surface recolours its faces whenever its Shape or ``ColourBy`` changes;
-the Analyse view switches ``ColourBy`` to "Stroke deviation".
+the Analyse view switches ``ColourBy`` to "Stroke deviation". With ``ColourBy`` "None" the faces
+have the surface's ShapeColor, except those a quality check fails on (a fold, or a face over its
+fit allowance: the report's quality section, the task panel's warning), which are WARNING_COLOUR.
 """
 from __future__ import annotations
 
 COLOUR_BY = ["None", "Stroke deviation", "Seam defect"]
+
+WARNING_COLOUR = (1.0, 0.55, 0.0)
+"""Orange, as the task panel's quality warning: a face a quality check fails on."""
 
 
 def colour_map(values: list) -> list:
@@ -28,7 +33,16 @@ def colour_faces(vobj) -> None:
         from ProgSurf.app import build  # heavy (pipeline + cad): loaded when a value is asked for
 
         values = build.face_values(obj, mode)
-    if values is None:
-        vobj.DiffuseColor = [tuple(vobj.ShapeColor)[:3]] * max(faces, 1)
+    if values is not None:
+        vobj.DiffuseColor = colour_map(values)
         return
-    vobj.DiffuseColor = colour_map(values)
+    normal = tuple(vobj.ShapeColor)[:3]
+    failing = None
+    if mode == "None" and faces and getattr(getattr(obj, "Proxy", None), "analysis", None) is not None:
+        from ProgSurf.app import build  # loaded already: it made the analysis
+
+        failing = build.failing_faces(obj)
+    if not failing or not any(failing):
+        vobj.DiffuseColor = [normal] * max(faces, 1)
+        return
+    vobj.DiffuseColor = [WARNING_COLOUR if bad else normal for bad in failing]

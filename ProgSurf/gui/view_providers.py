@@ -112,12 +112,25 @@ class ViewProviderSurface(_Base):
     def updateData(self, obj, prop: str) -> None:
         if prop == "Shape" and getattr(obj, "ViewObject", None):
             self.apply_colours(obj.ViewObject)
+            # FreeCAD's own view provider rebuilds the faces after this call and draws them in one
+            # colour, whatever DiffuseColor holds: colour them again once the event loop is back
+            from PySide import QtCore
+
+            QtCore.QTimer.singleShot(0, lambda vobj=obj.ViewObject: self.recolour(vobj))
 
     def onChanged(self, vobj, prop: str) -> None:
         if prop == "ColourBy":
             self.apply_colours(vobj)
 
     def apply_colours(self, vobj) -> None:
+        colour_faces(vobj)
+
+    def recolour(self, vobj) -> None:
+        """apply_colours, unless the object was deleted since it was asked for."""
+        try:
+            vobj.Object
+        except ReferenceError:
+            return
         colour_faces(vobj)
 
     def setEdit(self, vobj, mode: int = 0) -> bool:

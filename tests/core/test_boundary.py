@@ -279,7 +279,7 @@ def test_real_sketches_succeed_or_explain(path):
 
 def test_corners_join_the_strokes_without_a_hook():
     """The corner is the 3D midpoint of two strokes that miss each other in depth; the offset is
-    spread over the stroke ends (closing.RAMP_SLOPE), so no side turns sharply next to a corner
+    spread over the stroke ends (strokes.RAMP_SLOPE), so no side turns sharply next to a corner
     (rough4's sides turned by 20-54 degrees in their last segment before)."""
     from pathlib import Path
 

@@ -1,0 +1,86 @@
+"""The fold checks evaluate all their samples together (issue 16: they were most of a stroke's
+time): every batched query gives, bit for bit, what its one-at-a-time form gives for each of its
+sets, so nothing relative (a set's largest normal, its Newton stopping test) leaks between sets."""
+import numpy as np
+import pytest
+
+from benchmarks.surfaces import BENCH_TOL, SURFACES, grow_networks
+from ProgSurf.core import folds
+from ProgSurf.core.folds import face_turn_deg, find_folds, normal_sets, region_normals, seam_angle_deg
+from ProgSurf.core.preimage import inverse_bilinear, inverse_bilinear_sets
+from ProgSurf.core.types import Polyline, evaluate_polylines
+
+
+@pytest.fixture(scope="module")
+def net():
+    """The benchmark's saddle grown to about 30 regions: quads, triangles, long and short sides."""
+    nets, _ = grow_networks(SURFACES["saddle"], [30], seed=3, tol=BENCH_TOL)
+    return nets[30]
+
+
+def test_polylines_together_are_each_polyline_alone():
+    rng = np.random.default_rng(0)
+    polys = [Polyline(rng.normal(size=(n, 3)), np.r_[0.0, np.sort(rng.uniform(0, 1, n - 2)), 1.0])
+             for n in (2, 3, 17)] + [Polyline(np.ones((1, 3)), np.array([0.0]))]
+    jobs = [(polys[i % 4], rng.uniform(-0.2, 1.2, 1 + i)) for i in range(9)] + [(polys[2], np.array([0.0, 1.0]))]
+    together = evaluate_polylines(jobs)
+    assert np.array_equal(together, np.concatenate([p.evaluate(t) for p, t in jobs]))
+
+
+def test_inverse_bilinear_of_many_sets_is_each_set_alone(net):
+    rng = np.random.default_rng(1)
+    sets = []
+    for rid in net.region_ids:
+        ids, tri = net.region_corners(rid)
+        corners = np.array([net.node_uv(n) for n in ids])
+        # points inside (slow and fast to converge) and a few outside the region
+        w = rng.dirichlet(np.ones(4), size=int(rng.integers(1, 12)))
+        uv = w @ corners + rng.normal(scale=0.02, size=(len(w), 2)) * (rng.uniform(size=(len(w), 1)) < 0.3)
+        sets.append((corners, uv, tri))
+    assert any(t for _, _, t in sets) and not all(t for _, _, t in sets)
+    for (s, r), (corners, uv, tri) in zip(inverse_bilinear_sets(sets), sets):
+        s1, r1 = inverse_bilinear(corners, uv, tri)
+        assert np.array_equal(s, s1) and np.array_equal(r, r1)
+
+
+def test_regions_evaluated_together_are_each_region_alone(net):
+    rng = np.random.default_rng(2)
+    sets = [(rid, rng.uniform(0, 1, k), rng.uniform(0, 1, k)) for rid, k in zip(net.region_ids * 2, range(1, 99, 3))]
+    together = net.evaluate_regions(sets)
+    assert np.array_equal(together, np.concatenate([net.evaluate_region(rid, s, r) for rid, s, r in sets]))
+
+
+def test_normals_of_many_sets_are_each_set_alone(net):
+    """Sets of 1 to 19 samples, each with one on a region's top side (a triangle's collapsed side,
+    where which normals count as defined depends on the set's own largest derivatives)."""
+    rng = np.random.default_rng(3)
+    jobs = []
+    for rid in net.region_ids:
+        k = int(rng.integers(1, 20))
+        jobs.append((rid, rng.uniform(0, 1, k), np.r_[1.0, rng.uniform(0, 1, k - 1)]))
+    got = normal_sets(net, jobs)
+    for (unit, ok), (rid, s, r) in zip(got, jobs):
+        unit1, ok1 = region_normals(net, rid, s, r)
+        assert np.array_equal(ok, ok1) and np.array_equal(unit, unit1)
+
+
+def test_find_folds_reports_the_one_at_a_time_checks(net, monkeypatch):
+    """find_folds over every region, with thresholds lowered so that it reports every seam and face,
+    gives each angle exactly as seam_angle_deg and face_turn_deg compute it alone; over a subset,
+    every seam of the subset with the same angle."""
+    owners = {e: tuple(o) for e, o in net.edge_regions().items() if len(o) == 2}
+    monkeypatch.setattr(folds, "SEAM_FOLD_DEG", -1.0)
+    monkeypatch.setattr(folds, "FACE_TURN_DEG", -1.0)
+    found = find_folds(net)
+    seams = {f.edge: f.angle_deg for f in found if f.kind == "seam"}
+    faces = {f.regions[0]: f.angle_deg for f in found if f.kind == "face"}
+    assert set(seams) == set(owners) and set(faces) == set(net.region_ids)
+    for e, angle in seams.items():
+        assert angle == seam_angle_deg(net, e, owners[e])
+    for rid, turn in faces.items():
+        assert turn == face_turn_deg(net, rid)
+    some = set(net.region_ids[::3])
+    part = find_folds(net, some)
+    assert {f.edge for f in part if f.kind == "seam"} == {e for e, o in owners.items() if set(o) & some}
+    assert all(f.angle_deg == seams[f.edge] for f in part if f.kind == "seam")
+    assert {f.regions[0] for f in part if f.kind == "face"} == some
