@@ -55,6 +55,11 @@ class Cycle:
         """The sides' points in loop order: [(n_k, 3)], each ending where the next starts."""
         return [graph.edges[e].points[::-1] if rev else graph.edges[e].points for e, rev in self.sides]
 
+    def polylines_from(self, points: dict) -> list:
+        """The sides in loop order from {edge id: (n, 3) points} (another cut of the same edges,
+        such as the faired one): [(n_k, 3)]."""
+        return [points[e][::-1] if rev else points[e] for e, rev in self.sides]
+
     def loop_points(self, graph: StrokeGraph) -> FloatArray:
         return np.vstack([p[:-1] for p in self.polylines(graph)])
 
