@@ -58,6 +58,9 @@ def _parser() -> argparse.ArgumentParser:
                    help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_LENGTH_MM:g} mm)")
     b.add_argument("--smooth", type=int, default=0, metavar="N",
                    help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
+    b.add_argument("--surfaces", choices=["auto", "all", "one"], default="auto",
+                   help="all: every surface of the stroke network, one shell per part; one: one surface; "
+                        "auto: one when one loop encloses the other strokes, else all (ProgSurf.object_cli)")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
     return p
 
@@ -146,6 +149,11 @@ def run_build(args, out=sys.stdout) -> dict:
     clock = time.perf_counter()
     strokes = _read(args.inputs, _c3d_options(args))
     timings["read"] = time.perf_counter() - clock
+    from .object_cli import run_object_build, wants_object
+
+    network = wants_object(args, strokes, tol)
+    if network is not None:
+        return run_object_build(args, strokes, tol, network, timings, out)
 
     from . import cad
     from .app.build import build_and_measure, build_report

@@ -471,3 +471,33 @@ def _loop_normal(loop3d: FloatArray, plane: Plane) -> float:
     uv = plane.project(loop3d)
     x, y = uv[:, 0], uv[:, 1]
     return float(0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int]) -> BoundaryLoop:
+    """The BoundaryLoop of a loop that is closed already (issue 18: a cycle of the stroke network,
+    whose sides meet at its nodes exactly): steps 4-5 of the module docstring without the closing
+    of step 3, which would cut or extend sides that two surfaces share.
+
+    sides   : (n_k, 3) each, in loop order, each starting where the previous one ends
+    sources : the stroke (or network edge) index of each side, for BoundaryLoop.source
+    Sides are faired, densely sampled polylines: opposite sides are resampled evenly in arc length
+    (equalise_uniform)."""
+    pts = [np.array(s, dtype=float).reshape(-1, 3) for s in sides]
+    if len(pts) < 3:
+        raise OpenBoundaryError(f"a loop of {len(pts)} side(s) cannot bound a surface; it needs 3 or more")
+    plane = best_fit_plane(np.concatenate(pts))
+    groups = [[k] for k in range(len(pts))]
+    notes: list = []
+    if len(pts) > 4:
+        groups, notes = _merge_groups(pts, plane)
+        pts = [_join([pts[i] for i in g]) for g in groups]
+    srcs = [tuple(sorted({int(sources[i]) for i in g})) for g in groups]
+    if len(pts) == 3:
+        notes.append(f"three-sided loop: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
+        srcs.insert(2, ())
+    s0, s1, s2, s3 = merge_to_four(pts, plane)
+    bottom, top = equalise_uniform(s0, s2[::-1])
+    right, left = equalise_uniform(s1, s3[::-1])
+    area_normal = _loop_normal(np.concatenate([s0, s1[1:], s2[1:], s3[1:-1]]), plane)
+    out_plane = plane if area_normal >= 0 else plane.flipped()
+    return BoundaryLoop(bottom, right, top, left, out_plane, tuple(srcs), tuple(notes), {})

@@ -108,7 +108,7 @@ def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop
 def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
                   tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
                   falloff: str = "linear", candidates: Optional[Sequence[int]] = None,
-                  previous: Optional[BuildResult] = None) -> BuildResult:
+                  previous: Optional[BuildResult] = None, loop: Optional[BoundaryLoop] = None) -> BuildResult:
     """Build the progressive surface's patch network.
 
     strokes  : (n_i, 3) point arrays in mm, in drawing order
@@ -119,6 +119,8 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
                earlier ones, the tolerances and the boundary unchanged), the new strokes are added to
                a copy of its network instead of adding every stroke again: the same surface, in
                the time of the new strokes (timings_s["reused strokes"] counts the others).
+    loop     : the BoundaryLoop of the strokes `boundary` names, made by the caller from a loop that
+               is closed already (boundary.boundary_from_sides: a cycle of the stroke network)
     Raises a ProgSurfError when no surface can be made (bad strokes, a boundary that cannot be
     closed); an interior stroke that cannot be added is recorded as rejected, never raised.
     """
@@ -142,6 +144,8 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
         # the boundary is most of the work when one interior stroke is added)
         chosen = set(range(len(previous.strokes))) - set(previous.interior)
         loop, interior = previous.boundary, sorted(set(range(len(arrays))) - chosen)
+    elif loop is not None:
+        interior = sorted(set(range(len(arrays))) - set(named or ()))
     else:
         loop, interior = make_boundary(arrays, boundary, tol, candidates)
     timings["boundary"] = time.perf_counter() - clock

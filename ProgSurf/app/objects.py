@@ -1,0 +1,147 @@
+"""Build and measure the whole object (issue 18): the one orchestration of `--surfaces all`.
+
+    strokes -> core.objects.build_object        the stroke network, its cycles, one surface each
+            -> cad.object_shell                  every surface's faces, sewn one shell per part
+            -> cad.analysis                      per surface: fit deviation; per shell: seam gaps
+
+:func:`object_report` gives the build report: every surface (its sides' strokes, interior
+strokes, faces, fit), every shell (faces, closed, valid, free edges, the largest gap between two
+faces through their pcurves) and every stroke (the surfaces it bounds, those it is interior to,
+or why it is unused).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ProgSurf.cad import analysis as cad_analysis
+from ProgSurf.cad.object_shell import ObjectShell, build_object_shell
+from ProgSurf.core.errors import ProgSurfError
+from ProgSurf.core.objects import ObjectBuild, build_object
+from ProgSurf.core.types import Tolerances
+
+from .build import FIT_GRID
+
+
+@dataclass(frozen=True)
+class ObjectOutcome:
+    """What one whole-object build produced.
+
+    build : core.objects.ObjectBuild       model : cad.object_shell.ObjectShell
+    fit_deviation_mm : per surface, the largest distance of its faces from their Coons sub-patches
+    shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
+    timings_s : seconds per step
+    """
+
+    build: ObjectBuild
+    model: ObjectShell
+    fit_deviation_mm: tuple
+    shells: tuple
+    timings_s: dict = field(default_factory=dict)
+
+    @property
+    def shape(self):
+        return self.model.shape
+
+    @property
+    def problems(self) -> list:
+        """What fails the quality checks, one phrase each: loops that made no surface, invalid
+        shells, surfaces further from their Coons sub-patches than twice the fit tolerance."""
+        out = [f"{len(self.build.failed)} loop(s) of curves made no surface (first: {self.build.failed[0][1]})"] \
+            if self.build.failed else []
+        out += [f"shell {k} is not valid" for k, s in enumerate(self.shells) if not s["valid"]]
+        fit = self.build.tol.fit_mm
+        over = [k for k, d in enumerate(self.fit_deviation_mm) if d > 2 * fit]
+        if over:
+            out.append(f"{len(over)} surface(s) lie further than {2 * fit:.3g} mm from their Coons patches "
+                       f"(surface {over[0]}: {self.fit_deviation_mm[over[0]]:.3g} mm)")
+        return out
+
+    def verdict(self) -> str:
+        problems = self.problems
+        if not problems:
+            return "quality: ok (every loop of curves built; every shell valid)"
+        return f"quality: WARNING {len(problems)} problem(s): " + "; ".join(problems)
+
+
+def build_object_and_measure(strokes: Sequence[np.ndarray], tol: Tolerances = Tolerances(), *,
+                             continuity: str = "G0", network=None) -> ObjectOutcome:
+    """Every surface of the sketch's stroke network, sewn and measured (module docstring).
+    network: core.objects.stroke_network's result for these strokes, to reuse.
+    Raises ProgSurfError (no loop of curves, bad input) or Part.OCCError."""
+    build = build_object([np.asarray(s, dtype=float) for s in strokes], tol, network=network)
+    if not build.surfaces:
+        raise ProgSurfError(f"none of the {len(build.failed)} loops of curves made a surface; first: "
+                            f"{build.failed[0][1]}")
+    timings = dict(build.timings_s)
+    model = build_object_shell([s.result for s in build.surfaces], build.tol, continuity)
+    timings.update({f"cad {k}": v for k, v in model.timings_s.items()})
+    clock = time.perf_counter()
+    fits = tuple(max(cad_analysis.fit_deviation(shell_result, surf.result.network, n=FIT_GRID).values(),
+                     default=0.0)
+                 for shell_result, surf in zip(model.surfaces, build.surfaces))
+    shells = []
+    for s in model.shells:
+        info = cad_analysis.shell_seam_gaps(s)
+        info.update({"faces": len(s.Faces), "closed": bool(s.isClosed()), "valid": bool(s.isValid())})
+        shells.append(info)
+    timings["analysis"] = time.perf_counter() - clock
+    return ObjectOutcome(build, model, fits, tuple(shells), timings)
+
+
+def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs: Mapping | None = None,
+                  timings_s: Mapping | None = None) -> dict:
+    """The whole-object build report (module docstring), JSON-safe (io.report)."""
+    from ProgSurf.io.report import _clean
+
+    build, graph = outcome.build, outcome.build.graph
+    surfaces = []
+    for k, surf in enumerate(build.surfaces):
+        n_faces = sum(1 for owner in outcome.model.face_owner if owner == k)
+        surfaces.append({
+            "surface": k, "part": surf.part, "sides": len(surf.sides),
+            "side_strokes": [graph.edges[e].stroke for e in surf.sides],
+            "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
+            "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k]})
+    strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
+                "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}
+               for r in build.roles]
+    kinds: dict = {}
+    for n in graph.nodes:
+        kinds[n.kind] = kinds.get(n.kind, 0) + 1
+    return _clean({
+        "mode": "all", "inputs": list(inputs), "outputs": dict(outputs or {}),
+        "tolerances": {"filter_mm": build.tol.filter_mm, "snap_mm": build.tol.snap_mm,
+                       "fit_mm": build.tol.fit_mm, "delta_mm": graph.delta,
+                       "surface_sew_mm": outcome.model.tolerance},
+        "network": {"nodes": len(graph.nodes), "node_kinds": kinds, "edges": len(graph.edges),
+                    "cycles": len(build.choice.cycles), "dangling_edges": len(build.choice.dangling),
+                    "dropped_faces": [{"sides": len(c.sides), "reason": r} for c, r in build.choice.dropped]},
+        "surfaces": surfaces,
+        "failed_loops": [{"side_strokes": [graph.edges[e].stroke for e, _ in c.sides], "reason": r}
+                         for c, r in build.failed],
+        "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
+        "strokes": strokes,
+        "strokes_used": sum(r.used for r in build.roles),
+        "quality": {"ok": not outcome.problems, "verdict": outcome.verdict()},
+        "timings_s": dict(timings_s or outcome.timings_s)})
+
+
+def object_summary(report: Mapping) -> str:
+    """A short human summary of an object report."""
+    shells = report["shells"]
+    closed = sum(s["closed"] for s in shells)
+    lines = [f"{len(report['surfaces'])} surfaces, {report['faces']} faces in {len(shells)} shell(s) "
+             f"({closed} closed); network: {report['network']['nodes']} nodes, {report['network']['edges']} "
+             f"edges, {report['network']['cycles']} loops",
+             f"strokes: {report['strokes_used']} of {len(report['strokes'])} used",
+             f"largest gap between faces {max((s['seam_gap_max_mm'] for s in shells), default=0.0):.2e} mm "
+             f"(surfaces sewn at {report['tolerances']['surface_sew_mm']:.3g} mm)"]
+    lines += [f"  stroke {s['index']} unused: {s['reason']}" for s in report["strokes"] if not s["used"]]
+    lines += [f"  loop of strokes {f['side_strokes']} made no surface: {f['reason']}" for f in report["failed_loops"]]
+    lines.append("wrote " + ", ".join(report["outputs"].values()))
+    lines.append(report["quality"]["verdict"])
+    return "\n".join(lines)

@@ -1,0 +1,113 @@
+"""One model of the whole object: every surface's faces sewn into one shell per connected part.
+
+Each surface of core.objects is built by cad.shell.build_shell (its curves fitted once, its faces
+exact Coons B-spline faces sewn into its own shell). Two surfaces on one network curve bound
+themselves by the same polyline (core.objects), each fitting it within EDGE_FIT_FRACTION of the
+fit tolerance as part of its own side, so their edges there lie within about the fit tolerance of
+each other, not on one curve: OCC's sewing joins them at OBJECT_SEW_FRACTION of the fit tolerance
+and gives the shared edge that tolerance (a gap this small is far below what any exchange or
+meshing notices; sharing the very curve is left for later).
+
+FreeCAD 0.20's Part.Shape.sewShape(tolerance) parses its tolerance and ignores it (it always sews at
+1e-6 mm: TopoShapePy::sewShape calls TopoShape::sewShape() without it), so the sewing here runs
+through the Surface workbench's Sewing feature, the one FreeCAD API that hands a tolerance to
+BRepBuilderAPI_Sewing, in a temporary document.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from ..core.types import Tolerances
+from ._occ import Part
+from .shell import build_shell
+
+OBJECT_SEW_FRACTION = 4.0
+"""Surfaces are sewn to one another at this multiple of the fit tolerance: each side is fitted
+within half of it (cad.edges.EDGE_FIT_FRACTION) from the same polyline, so two fits of one curve
+differ by at most the fit tolerance plus the chords' sag."""
+
+
+@dataclass(frozen=True)
+class ObjectShell:
+    """The CAD model of an ObjectBuild.
+
+    shape      : one Part.Shell (one connected part) or a Compound of shells (several parts, or
+                 faces the sewing could not join: see `shells`)
+    shells     : the sewn shells
+    surfaces   : cad.shell.ShellResult per surface, in ObjectBuild.surfaces order
+    face_owner : per face of `shape`, the index of the surface it belongs to
+    tolerance  : the sewing tolerance between surfaces, mm
+    timings_s  : "surfaces" (fitting every surface's faces), "sew"
+    """
+
+    shape: object
+    shells: tuple
+    surfaces: tuple
+    face_owner: tuple
+    tolerance: float
+    timings_s: dict = field(default_factory=dict)
+
+    @property
+    def closed(self) -> tuple:
+        """isClosed() of each shell (a closed shell bounds a solid)."""
+        return tuple(bool(s.isClosed()) for s in self.shells)
+
+
+def _owner(shape, surfaces: list) -> tuple:
+    """The surface each face of the sewn shape came from, found by a point of its surface."""
+    from .sewing import probe_point
+
+    import numpy as np
+
+    probes, owners = [], []
+    for k, res in enumerate(surfaces):
+        for info in res.faces:
+            probes.append(probe_point(info.face))
+            owners.append(k)
+    probes = np.array(probes).reshape(-1, 3)
+    out = []
+    for f in shape.Faces:
+        p = np.array(probe_point(f))
+        out.append(owners[int(np.argmin(np.linalg.norm(probes - p, axis=1)))])
+    return tuple(out)
+
+
+def sew_at(faces: list, tolerance: float):
+    """The faces sewn by BRepBuilderAPI_Sewing at `tolerance` mm (through Surface::Sewing, see
+    the module docstring): a Shell, or a Compound of shells and faces."""
+    import FreeCAD
+    import Surface  # noqa: F401  (registers Surface::Sewing)
+
+    doc = FreeCAD.newDocument("ProgSurfSewing", hidden=True)
+    try:
+        holder = doc.addObject("Part::Feature", "Faces")
+        holder.Shape = Part.Compound(faces)
+        sewing = doc.addObject("Surface::Sewing", "Sewing")
+        sewing.ShapeList = [(holder, [f"Face{k + 1}" for k in range(len(faces))])]
+        sewing.Tolerance = tolerance
+        doc.recompute()
+        shape = sewing.Shape.copy()
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+    if shape.isNull():
+        shape = Part.Compound(faces)
+    return shape
+
+
+def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0") -> ObjectShell:
+    """Every surface's faces (cad.shell.build_shell of each BuildResult's network), sewn into
+    one shell per connected part at OBJECT_SEW_FRACTION of the fit tolerance."""
+    clock = time.perf_counter()
+    built = [build_shell(r.network, r.tol, continuity=continuity) for r in results]
+    t_surfaces = time.perf_counter() - clock
+    clock = time.perf_counter()
+    faces = [info.face for res in built for info in res.faces]
+    tolerance = OBJECT_SEW_FRACTION * tol.fit_mm
+    sewn = sew_at(faces, tolerance)
+    shells = list(sewn.Shells)
+    loose = [f for f in sewn.Faces if not any(f.isSame(g) for s in shells for g in s.Faces)]
+    shells += [Part.Shell([f]) for f in loose]
+    shape = shells[0] if len(shells) == 1 else Part.Compound(shells)
+    timings = {"surfaces": t_surfaces, "sew": time.perf_counter() - clock}
+    return ObjectShell(shape, tuple(shells), tuple(built), _owner(shape, built), tolerance, timings)

@@ -1,0 +1,301 @@
+"""Whole-object mode: one progressive surface per cycle of the stroke network (issue 18, part 3).
+
+    strokes -> filtered, faired once each                    (core.strokes, core.fairing)
+            -> the stroke network                            (core.stroke_graph)
+            -> the cycles that bound surfaces                (core.stroke_cycles)
+            -> per cycle: its sides as the boundary, the dangling pieces inside it as interior
+               strokes, through the progressive pipeline     (core.pipeline.build_network)
+
+Every graph edge is cut from its faired stroke ONCE, and each surface along it takes that very
+polyline as (part of) a boundary side: the two surfaces on a curve then bound themselves by the
+same points, so their fitted edges agree within the fit tolerance and sew (cad.object_shell).
+The pipeline is run on these polylines as they are (no second filtering or fairing, which would
+treat a side differently in each of its two surfaces).
+
+What became of every input stroke is recorded in StrokeRole: the surfaces it bounds, those it is
+an interior stroke of, or why it is unused.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Optional, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .boundary import best_fit_plane, boundary_from_sides
+from .errors import ProgSurfError
+from .fairing import fair_stroke, stroke_tolerance
+from .pipeline import BuildResult, build_network, resolve_tolerances
+from .stroke_cycles import Cycle, CycleChoice, find_cycles
+from .stroke_graph import StrokeGraph, build_stroke_graph
+from .strokes import chord_length, cumulative_length, filter_stroke, point_at_length, round_points, validate_stroke
+from .types import FloatArray, Tolerances
+
+INSIDE_FRACTION = 0.6
+"""A dangling piece is an interior stroke of the surface whose loop holds at least this fraction
+of its points (in the loop's best-fit plane) ..."""
+
+INSIDE_HEIGHT = 0.25
+"""... and whose points lie within this fraction of the loop's diagonal of that plane."""
+
+SURFACE_MODES = ("auto", "all", "one")
+"""--surfaces: every surface of the network, today's single surface, or the one the sketch shows."""
+
+
+@dataclass(frozen=True)
+class StrokeRole:
+    """What became of one input stroke.
+
+    boundary_of : indices (in ObjectBuild.surfaces) of the surfaces it bounds
+    interior_to : indices of the surfaces it was added to as an interior stroke
+    reason      : for a stroke that is neither, why; else a short note (merged, hook removed)
+    """
+
+    index: int
+    boundary_of: tuple = ()
+    interior_to: tuple = ()
+    reason: str = ""
+
+    @property
+    def used(self) -> bool:
+        return bool(self.boundary_of or self.interior_to)
+
+    def describe(self) -> str:
+        parts = []
+        if self.boundary_of:
+            parts.append("boundary of surface(s) " + ", ".join(map(str, self.boundary_of)))
+        if self.interior_to:
+            parts.append("interior to surface(s) " + ", ".join(map(str, self.interior_to)))
+        if not parts:
+            parts.append("unused: " + (self.reason or "no reason recorded"))
+        elif self.reason:
+            parts.append(self.reason)
+        return "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class ObjectSurface:
+    """One surface of the object.
+
+    cycle    : the network cycle that bounds it
+    result   : the pipeline's BuildResult (network, records: the sides first, then the interior
+               pieces), built on the cycle's side polylines
+    sides    : the graph edge ids of its sides, in loop order
+    interior : the graph edge ids added as interior strokes (dangling pieces inside it)
+    part     : the connected part of the network it belongs to
+    """
+
+    cycle: Cycle
+    result: BuildResult
+    sides: tuple
+    interior: tuple
+    part: int
+
+
+@dataclass(frozen=True)
+class ObjectBuild:
+    """The outcome of build_object.
+
+    graph    : the stroke network           choice : its cycles (chosen and dropped)
+    surfaces : ObjectSurface per built cycle
+    failed   : [(Cycle, reason)] cycles the pipeline could not make a surface of
+    roles    : StrokeRole per input stroke, in input order
+    tol      : the tolerances used (automatic values resolved from the whole sketch)
+    timings_s: seconds: "graph", "cycles", "surfaces"
+    """
+
+    graph: StrokeGraph
+    choice: CycleChoice
+    surfaces: tuple
+    failed: tuple
+    roles: tuple
+    tol: Tolerances
+    timings_s: dict = field(default_factory=dict)
+
+
+def _faired_strokes(filtered: list, tol: Tolerances) -> list:
+    """Each filtered stroke faired once (core.fairing), as the pipeline fairs an interior stroke."""
+    out = []
+    for pts in filtered:
+        pts = round_points(pts, tol.fit_mm)
+        ftol = stroke_tolerance(pts, tol.fair_mm, tol.snap_mm)
+        out.append(fair_stroke(pts, ftol, tol.sag_mm)[0] if len(pts) >= 2 else pts)
+    return out
+
+
+def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
+    """edge id -> its points cut from the faired stroke (arc lengths scaled from the filtered
+    stroke's), ends replaced by the node points exactly."""
+    out = {}
+    for e in graph.edges:
+        src = faired[e.stroke]
+        scale = chord_length(src) / max(chord_length(graph.strokes[e.stroke]), 1e-300)
+        s0, s1 = e.s0 * scale, e.s1 * scale
+        cum = cumulative_length(src)
+        inner = src[(cum > s0) & (cum < s1)]
+        pts = np.vstack([graph.nodes[e.node0].point, inner, graph.nodes[e.node1].point])
+        if len(pts) == 2:
+            pts = point_at_length(pts, np.linspace(0.0, chord_length(pts), 3))
+        out[e.id] = pts
+    return out
+
+
+def _split_few_sides(sides: list) -> list:
+    """A loop of one or two sides (a closed stroke, two strokes between the same two nodes) has
+    its sides cut at their middles until it has four, so that it can be a 4-sided boundary."""
+    sides = list(sides)
+    while len(sides) < 4:
+        k = max(range(len(sides)), key=lambda i: chord_length(sides[i]))
+        pts = sides[k]
+        cum = cumulative_length(pts)
+        half = 0.5 * cum[-1]
+        mid = point_at_length(pts, half)
+        a = np.vstack([pts[cum < half], mid])
+        b = np.vstack([mid, pts[cum > half]])
+        if len(a) < 2 or len(b) < 2:
+            break
+        sides[k:k + 1] = [a, b]
+    return sides
+
+
+def _inside(points: FloatArray, loop: FloatArray) -> tuple[float, float]:
+    """(fraction of the points inside the loop in its best-fit plane, largest height over that
+    plane as a fraction of the loop's diagonal)."""
+    plane = best_fit_plane(loop)
+    poly = plane.project(loop)
+    q = plane.project(points)
+    x, y = poly[:, 0], poly[:, 1]
+    x2, y2 = np.roll(x, -1), np.roll(y, -1)
+    crosses = ((y[None] > q[:, 1:2]) != (y2[None] > q[:, 1:2])) & (
+        q[:, 0:1] < (x2 - x)[None] * (q[:, 1:2] - y[None]) / np.where(y2 - y == 0, 1e-300, y2 - y)[None] + x[None])
+    inside = crosses.sum(axis=1) % 2 == 1
+    diag = max(float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0))), 1e-300)
+    height = np.abs((points - plane.origin) @ plane.normal).max() / diag
+    return float(inside.mean()), float(height)
+
+
+def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -> dict:
+    """cycle index -> [edge ids]: each edge that bounds no chosen cycle goes to the cycle whose
+    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do."""
+    bounding = {e for c in choice.cycles for e in c.edge_ids}
+    loops = [np.vstack([p[:-1] for p in c.polylines(graph)]) for c in choice.cycles]
+    sizes = [float(np.linalg.norm(lp.max(axis=0) - lp.min(axis=0))) for lp in loops]
+    out: dict = {}
+    for e in graph.edges:
+        if e.id in bounding:
+            continue
+        best = None
+        for k, loop in enumerate(loops):
+            frac, height = _inside(polylines[e.id], loop)
+            if frac >= INSIDE_FRACTION and height <= INSIDE_HEIGHT and (best is None or sizes[k] < sizes[best]):
+                best = k
+        if best is not None:
+            out.setdefault(best, []).append(e.id)
+    return out
+
+
+def choose_mode(choice: CycleChoice) -> str:
+    """The surfaces the sketch shows, for --surfaces auto: "one" when one loop encloses the other
+    strokes (no loop at all, one loop, or one connected open sheet whose border is its one outer
+    face: today's single surface), else "all" (a closed shell, a tube, several parts)."""
+    parts = {c.sides[0][0] for c in choice.cycles}
+    parts = {p for p, edges in enumerate(choice.parts) if edges & parts}
+    if len(choice.cycles) <= 1 or len(parts) > 1:
+        return "one" if len(choice.cycles) <= 1 else "all"
+    outer = [c for c, reason in choice.dropped if reason.startswith("outer face")]
+    rims = [c for c, reason in choice.dropped if reason.startswith("spans no surface")]
+    return "one" if len(outer) == 1 and not rims else "all"
+
+
+def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(),
+                 network: Optional[tuple] = None) -> ObjectBuild:
+    """Every surface the stroke network bounds, each through the progressive pipeline.
+
+    strokes : (n_i, 3) point arrays in mm, in drawing order
+    network : (StrokeGraph, CycleChoice, tol) made by `stroke_network` for these strokes, to
+              reuse; None = make them here
+    A cycle the pipeline cannot make a surface of is recorded in `failed` with the reason; a
+    sketch with no cycle at all raises a ProgSurfError naming why."""
+    timings: dict = {}
+    clock = time.perf_counter()
+    graph, choice, tol = network if network is not None else stroke_network(strokes, tol)
+    faired = _faired_strokes(list(graph.strokes), tol)
+    polylines = edge_polylines(graph, faired)
+    timings["graph"] = time.perf_counter() - clock
+    if not choice.cycles:
+        raise ProgSurfError(
+            f"the {len(graph.strokes)} strokes make a network of {len(graph.nodes)} nodes and "
+            f"{len(graph.edges)} edges but no closed loop of curves: no surface is bounded; draw "
+            f"strokes that cross or meet (within {graph.delta:.3g} mm) around each surface")
+    clock = time.perf_counter()
+    interior = _assign_interior(graph, choice, polylines)
+    part_of = {e: p for p, edges in enumerate(choice.parts) for e in edges}
+    # each surface's polylines as they are: no second filtering or fairing (module docstring)
+    inner_tol = replace(tol, filter_mm=0.0, fair_mm=0.0)
+    surfaces, failed = [], []
+    for k, cycle in enumerate(choice.cycles):
+        sides = _split_few_sides(cycle.polylines_from(polylines))
+        inside = interior.get(k, [])
+        try:
+            loop = boundary_from_sides(sides, list(range(len(sides))))
+            result = build_network(sides + [polylines[e] for e in inside], boundary=list(range(len(sides))),
+                                   tol=inner_tol, loop=loop)
+        except ProgSurfError as exc:
+            failed.append((cycle, str(exc)))
+            continue
+        surfaces.append(ObjectSurface(cycle, result, tuple(e for e, _ in cycle.sides), tuple(inside),
+                                      part_of[cycle.sides[0][0]]))
+    timings["surfaces"] = time.perf_counter() - clock
+    return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed),
+                       tol, timings)
+
+
+def stroke_network(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances()) -> tuple:
+    """(StrokeGraph, CycleChoice, resolved Tolerances) of a sketch: its strokes validated,
+    tolerances resolved from the whole sketch, filtered, and made a network with delta = the
+    snap distance."""
+    arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
+    if not arrays:
+        raise ProgSurfError("no strokes given; a network needs at least one stroke")
+    tol = resolve_tolerances(arrays, tol)
+    filtered = [filter_stroke(a, tol.filter_mm) for a in arrays]
+    graph = build_stroke_graph(filtered, tol.snap_mm)
+    return graph, find_cycles(graph), tol
+
+
+def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list) -> tuple:
+    """StrokeRole per input stroke (module docstring)."""
+    bounds: dict = {}
+    inside: dict = {}
+    rejected: dict = {}
+    for k, surf in enumerate(surfaces):
+        for e in surf.sides:
+            bounds.setdefault(graph.edges[e].stroke, set()).add(k)
+        n = len(surf.result.records) - len(surf.interior)
+        for rec, e in zip(surf.result.records[n:], surf.interior):
+            stroke = graph.edges[e].stroke
+            if rec.status == "accepted":
+                inside.setdefault(stroke, set()).add(k)
+            else:
+                rejected.setdefault(stroke, []).append(f"surface {k} rejected it: {rec.reason}")
+    failed_edges = {e: reason for c, reason in failed for e in c.edge_ids}
+    out = []
+    for i in range(len(graph.strokes)):
+        note = graph.notes.get(i, "")
+        reason = note
+        if i not in bounds and i not in inside:
+            edges = graph.edges_of_stroke(i)
+            if rejected.get(i):
+                reason = "; ".join(rejected[i])
+            elif any(e.id in failed_edges for e in edges):
+                reason = "its loop could not be made a surface: " + next(
+                    failed_edges[e.id] for e in edges if e.id in failed_edges)
+            elif edges and all(e.id in choice.dangling for e in edges):
+                reason = "it dangles outside every surface (no loop of curves holds it)"
+            elif edges:
+                reason = "its pieces bound no surface and lie inside none"
+            reason = (note + "; " + reason) if note and reason != note else reason
+        out.append(StrokeRole(i, tuple(sorted(bounds.get(i, ()))), tuple(sorted(inside.get(i, ()))), reason))
+    return tuple(out)

@@ -1,0 +1,283 @@
+"""The cycles of a stroke network that bound surfaces, a manifold choice (issue 18, part 2).
+
+Each node gets a normal from the directions of its edges (the plane they span, or for a corner
+whose edges leave it to one side, like a cube's, their mean), oriented consistently along the
+graph. Ordering its edges by angle about that normal gives a rotation system; its faces (walk an
+edge, turn to the next edge around the node, repeat) use every edge at most once in each
+direction, so each curve bounds at most two surfaces: the manifold choice that Zhuang, Zou, Carr
+and Ju (2013) make with a local "mapping" at each node and that CASSIE makes by walking the graph
+with node normals.
+
+Not every face bounds a surface: per connected part, a face that runs the other way round the
+node normals than the most faces do is the outer face of an open sheet (a grid's border), and a
+face the node normals lie along (ALIGN_MIN) is a rim such as a tube's end; both are left out.
+Dangling edges (pruned first) bound nothing; they are candidates for interior strokes.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .stroke_graph import StrokeGraph
+from .strokes import cumulative_length, point_at_length
+from .types import FloatArray
+
+ALIGN_MIN = 0.3
+"""A face bounds a surface when the mean of its nodes' normals, dotted with the unit vector area
+of its loop (in the part's orientation), is at least this."""
+
+ISOTROPIC = 0.4
+"""Edge directions whose smallest scatter eigenvalue is at least this fraction of the largest
+span no plane (a cube's corner): the node's normal is then their mean."""
+
+TANGENT_REACH = 3.0
+"""An edge's direction at a node is taken to its point this many delta along it (at most 30 % of it)."""
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """A cycle of the stroke network that bounds one surface.
+
+    sides : ((edge id, reversed), ...) in loop order: each side runs from the node where the
+            previous one ends
+    align : how well the loop's vector area agrees with its nodes' normals (1: fully)
+    """
+
+    sides: tuple
+    align: float
+
+    @property
+    def edge_ids(self) -> frozenset:
+        return frozenset(e for e, _ in self.sides)
+
+    def polylines(self, graph: StrokeGraph) -> list:
+        """The sides' points in loop order: [(n_k, 3)], each ending where the next starts."""
+        return [graph.edges[e].points[::-1] if rev else graph.edges[e].points for e, rev in self.sides]
+
+    def polylines_from(self, points: dict) -> list:
+        """The sides in loop order from {edge id: (n, 3) points} (another cut of the same edges,
+        such as the faired one): [(n_k, 3)]."""
+        return [points[e][::-1] if rev else points[e] for e, rev in self.sides]
+
+    def loop_points(self, graph: StrokeGraph) -> FloatArray:
+        return np.vstack([p[:-1] for p in self.polylines(graph)])
+
+
+@dataclass(frozen=True)
+class CycleChoice:
+    """The surfaces' cycles of a stroke network, and what was left out.
+
+    cycles   : the chosen Cycles             dropped : [(Cycle, reason)] faces not taken
+    dangling : edge ids that bound nothing (pruned tree branches and bridges)
+    normals  : {node id: (3,) unit normal} (nodes of degree 2 or more)
+    parts    : [set of edge ids] per connected part of the non-dangling graph
+    """
+
+    cycles: tuple
+    dropped: tuple
+    dangling: frozenset
+    normals: dict
+    parts: tuple
+
+
+def _prune(graph: StrokeGraph) -> set:
+    """Edges left after removing, again and again, every edge at a node of degree 1."""
+    live = {e.id for e in graph.edges}
+    deg: dict = {}
+    for e in graph.edges:
+        deg[e.node0] = deg.get(e.node0, 0) + 1
+        deg[e.node1] = deg.get(e.node1, 0) + 1
+    changed = True
+    while changed:
+        changed = False
+        for e in graph.edges:
+            if e.id in live and (deg[e.node0] == 1 or deg[e.node1] == 1):
+                live.discard(e.id)
+                deg[e.node0] -= 1
+                deg[e.node1] -= 1
+                changed = True
+    return live
+
+
+def _tangent(points: FloatArray, reach: float) -> FloatArray:
+    """Unit direction from points[0] to the point `reach` along the polyline (at most 30 % of it)."""
+    cum = cumulative_length(points)
+    p = point_at_length(points, min(reach, 0.3 * cum[-1]))
+    d = p - points[0]
+    n = np.linalg.norm(d)
+    return d / n if n > 0 else np.zeros(3)
+
+
+def _half_edges(graph: StrokeGraph, live: set) -> dict:
+    """node -> [(edge id, reversed, unit tangent leaving the node)]."""
+    reach = TANGENT_REACH * graph.delta
+    out: dict = {}
+    for e in graph.edges:
+        if e.id not in live:
+            continue
+        out.setdefault(e.node0, []).append((e.id, False, _tangent(e.points, reach)))
+        out.setdefault(e.node1, []).append((e.id, True, _tangent(e.points[::-1], reach)))
+    return out
+
+
+def _raw_normal(tangents: FloatArray) -> FloatArray | None:
+    """The normal of the plane the edge directions span (None for two collinear ones)."""
+    if len(tangents) == 2:
+        n = np.cross(tangents[0], tangents[1])
+        norm = np.linalg.norm(n)
+        return n / norm if norm > 1e-6 else None
+    w, v = np.linalg.eigh(tangents.T @ tangents)
+    if w[0] >= ISOTROPIC * w[-1]:
+        m = tangents.sum(axis=0)
+        norm = np.linalg.norm(m)
+        if norm > 1e-6:
+            return m / norm
+    return v[:, 0]
+
+
+def _parts(graph: StrokeGraph, live: set) -> list:
+    """Connected parts of the live edges: [set of edge ids]."""
+    adj: dict = {}
+    for e in graph.edges:
+        if e.id in live:
+            adj.setdefault(e.node0, []).append(e.id)
+            adj.setdefault(e.node1, []).append(e.id)
+    seen: set = set()
+    parts = []
+    for start in sorted(live):
+        if start in seen:
+            continue
+        part, stack = set(), [start]
+        while stack:
+            k = stack.pop()
+            if k in part:
+                continue
+            part.add(k)
+            e = graph.edges[k]
+            stack.extend(x for n in (e.node0, e.node1) for x in adj[n] if x not in part)
+        seen |= part
+        parts.append(part)
+    return parts
+
+
+def _oriented_normals(graph: StrokeGraph, half: dict) -> dict:
+    """Node normals, flipped along the graph (breadth first) to agree with their neighbour's
+    across each edge, compared with their components along the edge's chord removed."""
+    raw = {n: _raw_normal(np.array([t for _, _, t in hs])) for n, hs in half.items()}
+    normals: dict = {}
+    for seed in sorted(half, key=lambda n: -len(half[n])):
+        if seed in normals or raw[seed] is None:
+            continue
+        normals[seed] = raw[seed]
+        queue = [seed]
+        while queue:
+            u = queue.pop(0)
+            for eid, _, _ in half[u]:
+                e = graph.edges[eid]
+                v = e.other(u)
+                if v in normals:
+                    continue
+                nv = raw[v]
+                if nv is None:      # two collinear edges: the neighbour's, across the edge
+                    nv = normals[u]
+                c = graph.nodes[v].point - graph.nodes[u].point
+                cn = np.linalg.norm(c)
+                c = c / cn if cn > 0 else c
+                pu, pv = normals[u] - (normals[u] @ c) * c, nv - (nv @ c) * c
+                normals[v] = -nv if pu @ pv < 0 else nv
+                queue.append(v)
+    return normals
+
+
+def _rotation(half: dict, normals: dict) -> dict:
+    """node -> its half-edges [(edge id, reversed)] in counter-clockwise order about its normal."""
+    out = {}
+    for n, hs in half.items():
+        nrm = normals.get(n)
+        if nrm is None or len(hs) <= 2:
+            out[n] = [(e, r) for e, r, _ in hs]
+            continue
+        proj = [t - (t @ nrm) * nrm for _, _, t in hs]
+        x = proj[0] / max(np.linalg.norm(proj[0]), 1e-300)
+        y = np.cross(nrm, x)
+        ang = [np.arctan2(p @ y, p @ x) for p in proj]
+        order = np.argsort(ang, kind="stable")
+        out[n] = [(hs[k][0], hs[k][1]) for k in order]
+    return out
+
+
+def _faces(graph: StrokeGraph, rotation: dict) -> list:
+    """The faces of the rotation system: [[(edge id, reversed), ...]]."""
+    def head(h):
+        e = graph.edges[h[0]]
+        return e.node0 if h[1] else e.node1
+
+    seen: set = set()
+    faces = []
+    for n in sorted(rotation):
+        for h in rotation[n]:
+            if h in seen:
+                continue
+            face = []
+            cur = h
+            while cur not in seen:
+                seen.add(cur)
+                face.append(cur)
+                w = head(cur)
+                around = rotation[w]
+                back = (cur[0], not cur[1])
+                k = around.index(back)
+                cur = around[k - 1]
+            faces.append(face)
+    return faces
+
+
+def _vector_area(points: FloatArray) -> FloatArray:
+    c = points.mean(axis=0)
+    q = points - c
+    return 0.5 * np.cross(q, np.roll(q, -1, axis=0)).sum(axis=0)
+
+
+def find_cycles(graph: StrokeGraph) -> CycleChoice:
+    """The cycles of the stroke network that bound surfaces (module docstring)."""
+    live = _prune(graph)
+    half = _half_edges(graph, live)
+    normals = _oriented_normals(graph, half)
+    faces = _faces(graph, _rotation(half, normals))
+    parts = _parts(graph, live)
+    part_of = {k: p for p, edges in enumerate(parts) for k in edges}
+    bridges: set = set()
+    scored: dict = {}
+    for face in faces:
+        ids = [e for e, _ in face]
+        if len(set(ids)) < len(ids):      # walks an edge both ways: a bridge, bounds nothing
+            bridges |= {e for e in ids if ids.count(e) > 1}
+            continue
+        pts = np.vstack([(graph.edges[e].points[::-1] if r else graph.edges[e].points)[:-1] for e, r in face])
+        area = _vector_area(pts)
+        norm = np.linalg.norm(area)
+        nodes = [graph.edges[e].node1 if r else graph.edges[e].node0 for e, r in face]
+        ns = [normals[n] for n in nodes if n in normals]
+        align = float(np.mean([n @ area / norm for n in ns])) if ns and norm > 0 else 0.0
+        scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), align))
+    chosen, dropped = [], []
+    for p in sorted(scored):
+        cycles = scored[p]
+        if len(cycles) == 2 and cycles[0].edge_ids == cycles[1].edge_ids:
+            # one loop and nothing else: the same cycle both ways round; keep one
+            keep = max(cycles, key=lambda c: c.align)
+            chosen.append(Cycle(keep.sides, abs(keep.align)))
+            continue
+        votes = sum(np.sign(c.align) for c in cycles if abs(c.align) >= ALIGN_MIN)
+        sign = 1.0 if votes >= 0 else -1.0
+        for c in cycles:
+            a = sign * c.align
+            if a >= ALIGN_MIN:
+                chosen.append(Cycle(c.sides, a))
+            elif a <= -ALIGN_MIN:
+                dropped.append((c, "outer face of an open sheet: it runs the other way round the node normals"))
+            else:
+                dropped.append((c, f"spans no surface: its nodes' normals lie along it (alignment {a:.2f})"))
+    dangling = frozenset({e.id for e in graph.edges} - live) | frozenset(bridges)
+    return CycleChoice(tuple(chosen), tuple(dropped), dangling, normals, tuple(frozenset(p) for p in parts))

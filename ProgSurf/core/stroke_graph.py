@@ -1,0 +1,466 @@
+"""The stroke network: a sketch's strokes as a graph of nodes and stroke pieces (issue 18, part 1).
+
+A designer who draws a whole object draws the curves of all its surfaces at once; where curves
+cross or nearly cross they share a point of the object. This module turns filtered strokes
+(core.strokes.filter_stroke) into that graph, with one sketch-relative distance delta (the snap
+distance of core.pipeline: SNAP_FRACTION of the sketch's diagonal), following the thresholds that
+CASSIE (Yu et al., CHI 2021) publishes:
+
+- crossings and near-crossings closer than delta become shared nodes (one per run of close
+  segments; the closest pair of points of the run, their midpoint the node);
+- a stroke end within PROXIMITY x delta of another stroke becomes a T-node on that stroke (or a
+  shared corner when it is near the other stroke's end); node candidates closer than delta merge;
+- a stroke lying within delta of a longer one along OVERSKETCH_COVER of its length is an
+  over-sketch of it: merged (left out, recorded); a stroke whose end runs along another over more
+  than PROXIMITY x delta is trimmed where it leaves it, and joined there;
+- an end piece beyond the stroke's last node no longer than HOOK x delta and HOOK_FRACTION of the
+  stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1.
+
+Edges are the stroke pieces between consecutive nodes; their end points are the node points
+exactly, so that edges meeting at a node meet there to round-off.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .strokes import chord_length, cumulative_length, point_at_length
+from .types import FloatArray
+
+PROXIMITY = 2.0
+"""A stroke end this many delta from another stroke is joined to it (CASSIE: proximity 2 delta)."""
+
+HOOK = 3.0
+"""An end piece beyond the last node up to this many delta ... (CASSIE: hooks up to 3 delta)"""
+
+HOOK_FRACTION = 0.15
+"""... and up to this fraction of its stroke is a hook, removed (CASSIE: 15 % of a stroke)."""
+
+OVERSKETCH_COVER = 0.8
+"""A stroke within delta of a longer stroke along this fraction of its length is an over-sketch."""
+
+
+@dataclass(frozen=True)
+class GraphNode:
+    """A node of the stroke network.
+
+    id    : index in StrokeGraph.nodes
+    point : (3,) float, mm
+    kind  : "crossing" (two or more strokes pass through), "T" (a stroke end on another stroke),
+            "corner" (stroke ends meeting only), "end" (the free end of a dangling piece)
+    """
+
+    id: int
+    point: FloatArray
+    kind: str
+
+
+@dataclass(frozen=True)
+class GraphEdge:
+    """A stroke piece between two nodes.
+
+    points : (n, 3) float, n >= 2; points[0] is node0's point and points[-1] node1's, exactly
+    stroke : the input stroke index it was cut from; s0 < s1 its arc-length range along that
+             (filtered) stroke, in mm
+    """
+
+    id: int
+    node0: int
+    node1: int
+    points: FloatArray
+    stroke: int
+    s0: float
+    s1: float
+
+    @property
+    def length(self) -> float:
+        return chord_length(self.points)
+
+    def other(self, node: int) -> int:
+        return self.node1 if node == self.node0 else self.node0
+
+    def from_node(self, node: int) -> FloatArray:
+        """The points oriented away from `node`: (n, 3)."""
+        return self.points if node == self.node0 else self.points[::-1]
+
+
+@dataclass(frozen=True)
+class StrokeGraph:
+    """The stroke network of a sketch.
+
+    nodes   : GraphNode per node       edges : GraphEdge per edge
+    delta   : the distance (mm) under which curves count as touching
+    strokes : the (filtered) stroke polylines the graph was made from, in input order
+    notes   : {stroke index: what became of it}: "merged into stroke k (over-sketch)", "hook of
+              x mm removed at its start/end", "isolated (touches no other stroke)", ...
+    merged  : {stroke index: the stroke it was merged into}
+    """
+
+    nodes: tuple
+    edges: tuple
+    delta: float
+    strokes: tuple
+    notes: dict = field(default_factory=dict)
+    merged: dict = field(default_factory=dict)
+
+    def incident(self) -> dict:
+        """node id -> [edge ids] (an edge from a node to itself appears twice)."""
+        out: dict = {n.id: [] for n in self.nodes}
+        for e in self.edges:
+            out[e.node0].append(e.id)
+            out[e.node1].append(e.id)
+        return out
+
+    def degree(self, node: int) -> int:
+        return sum((e.node0 == node) + (e.node1 == node) for e in self.edges)
+
+    def edges_of_stroke(self, stroke: int) -> list:
+        return [e for e in self.edges if e.stroke == stroke]
+
+
+def segment_distances(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Closest points between every segment of polyline a (m-1 segments) and of b (k-1 segments):
+    (distance (m-1, k-1), parameter s in [0, 1] along a's segment, t along b's). Ericson,
+    "Real-time collision detection", 5.1.9, vectorised; parallel segments take s from a's start."""
+    p1, d1 = a[:-1, None, :], np.diff(a, axis=0)[:, None, :]
+    p2, d2 = b[None, :-1, :], np.diff(b, axis=0)[None, :, :]
+    r = p1 - p2
+    aa = np.einsum("ijk,ijk->ij", d1, d1) + np.zeros((1, len(b) - 1))
+    ee = np.einsum("ijk,ijk->ij", d2, d2) + np.zeros((len(a) - 1, 1))
+    ff = np.einsum("ijk,ijk->ij", d2, r)
+    cc = np.einsum("ijk,ijk->ij", d1, r)
+    bb = np.einsum("ijk,ijk->ij", d1, d2)
+    den = aa * ee - bb * bb
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(den > 1e-12 * aa * ee, np.clip((bb * ff - cc * ee) / den, 0.0, 1.0), 0.0)
+        t = (bb * s + ff) / np.maximum(ee, 1e-300)
+        s = np.where(t < 0, np.clip(-cc / np.maximum(aa, 1e-300), 0.0, 1.0),
+                     np.where(t > 1, np.clip((bb - cc) / np.maximum(aa, 1e-300), 0.0, 1.0), s))
+    t = np.clip(t, 0.0, 1.0)
+    dist = np.linalg.norm(p1 + d1 * s[..., None] - p2 - d2 * t[..., None], axis=2)
+    return dist, s, t
+
+
+def _components(mask: np.ndarray) -> list:
+    """8-connected components of the True cells of a 2D mask: [(rows, cols)]."""
+    seen = np.zeros_like(mask)
+    out = []
+    for i, j in zip(*np.nonzero(mask)):
+        if seen[i, j]:
+            continue
+        stack, cells = [(i, j)], []
+        seen[i, j] = True
+        while stack:
+            x, y = stack.pop()
+            cells.append((x, y))
+            for dx in (-1, 0, 1):
+                for dy in (-1, 0, 1):
+                    u, v = x + dx, y + dy
+                    if 0 <= u < mask.shape[0] and 0 <= v < mask.shape[1] and mask[u, v] and not seen[u, v]:
+                        seen[u, v] = True
+                        stack.append((u, v))
+        rows, cols = zip(*cells)
+        out.append((np.array(rows), np.array(cols)))
+    return out
+
+
+def _nearest_on(points: FloatArray, poly: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Distance of each point (k, 3) to a polyline and the arc length of its footpoint: (k,), (k,)."""
+    a, ab = poly[:-1], np.diff(poly, axis=0)
+    ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+    w = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
+    d = np.linalg.norm(a[None] + w[..., None] * ab[None] - points[:, None, :], axis=2)
+    j = d.argmin(axis=1)
+    cum = cumulative_length(poly)
+    seg = np.sqrt(ll)
+    k = np.arange(len(points))
+    return d[k, j], cum[j] + w[k, j] * seg[j]
+
+
+class _Candidates:
+    """Node candidates: each a point and the (stroke, arc length) attachments it stands for."""
+
+    def __init__(self) -> None:
+        self.points: list = []
+        self.attach: list = []
+
+    def add(self, point, attachments) -> None:
+        self.points.append(np.asarray(point, dtype=float))
+        self.attach.append(list(attachments))
+
+
+def _bbox_close(a: FloatArray, b: FloatArray, margin: float) -> bool:
+    return bool(np.all(a.min(axis=0) - margin <= b.max(axis=0)) and np.all(b.min(axis=0) - margin <= a.max(axis=0)))
+
+
+def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
+    """{stroke: the longer stroke it over-sketches}: within delta of it along OVERSKETCH_COVER of
+    its length (measured at its points and chord midpoints)."""
+    merged: dict = {}
+    order = sorted(range(len(strokes)), key=lambda i: -lengths[i])
+    for rank, i in enumerate(order):
+        if i in merged:
+            continue
+        for j in order[rank + 1:]:
+            if j in merged or not _bbox_close(strokes[i], strokes[j], delta):
+                continue
+            pj = strokes[j]
+            probe = np.vstack([pj, 0.5 * (pj[1:] + pj[:-1])])
+            d, _ = _nearest_on(probe, strokes[i])
+            if np.mean(d <= delta) >= OVERSKETCH_COVER:
+                merged[j] = i
+    return merged
+
+
+def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trims: dict) -> None:
+    """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring)."""
+    cums = [cumulative_length(s) for s in strokes]
+    for x, i in enumerate(live):
+        for j in live[x + 1:]:
+            a, b = strokes[i], strokes[j]
+            if not _bbox_close(a, b, delta):
+                continue
+            dist, s, t = segment_distances(a, b)
+            for rows, cols in _components(dist <= delta):
+                k = int(np.argmin(dist[rows, cols]))
+                r, c = rows[k], cols[k]
+                sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
+                sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
+                # how far the run follows each stroke: a crossing covers about 2 delta at most
+                ra = cums[i][rows.max() + 1] - cums[i][rows.min()]
+                rb = cums[j][cols.max() + 1] - cums[j][cols.min()]
+                if min(ra, rb) > 2 * PROXIMITY * delta:
+                    # a run along the other stroke: trim the stroke whose end lies in the run
+                    _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes)
+                    continue
+                pa = point_at_length(a, sa)
+                pb = point_at_length(b, sb)
+                cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
+
+
+def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: _Candidates, strokes: list) -> None:
+    """A stroke that runs along another over part of its length (an over-sketched run): the one
+    whose end lies in the run is cut where the run leaves it and joined to the other there."""
+    for me, other, mine, theirs, sp, tp in ((i, j, rows, cols, s, t), (j, i, cols, rows, t.T, s.T)):
+        cum = cums[me]
+        lo = cum[mine.min()]
+        hi = cum[mine.max() + 1]
+        total = cum[-1]
+        if lo <= 1e-9 * total or hi >= total * (1 - 1e-9):
+            at_start = lo <= 1e-9 * total
+            keep_from = hi if at_start else lo
+            trims.setdefault(me, []).append((at_start, keep_from))
+            p = point_at_length(strokes[me], keep_from)
+            d, s_other = _nearest_on(p[None], strokes[other])
+            cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0])), [(me, keep_from), (other, s_other[0])])
+            return
+    # a run in the middle of both: they touch along it; one node at its middle
+    k = len(rows) // 2
+    r, c = rows[k], cols[k]
+    sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
+    sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
+    cands.add(0.5 * (point_at_length(strokes[i], sa) + point_at_length(strokes[j], sb)), [(i, sa), (j, sb)])
+
+
+def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> None:
+    """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
+    own other end, for a closed stroke) is joined to its nearest point there."""
+    reach = PROXIMITY * delta
+    for i in live:
+        total = chord_length(strokes[i])
+        for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
+            best = None
+            for j in live:
+                if j == i:
+                    continue
+                if not _bbox_close(p[None], strokes[j], reach):
+                    continue
+                d, sj = _nearest_on(p[None], strokes[j])
+                if d[0] <= reach and (best is None or d[0] < best[0]):
+                    best = (d[0], j, sj[0])
+            if best is not None:
+                _, j, sj = best
+                cands.add(0.5 * (p + point_at_length(strokes[j], sj)), [(i, s_end), (j, sj)])
+        if total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach:
+            cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
+
+
+def _cluster(points: list, delta: float) -> list:
+    """Single-linkage clusters of points closer than delta: a cluster label per point."""
+    n = len(points)
+    parent = list(range(n))
+
+    def find(k: int) -> int:
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    if n:
+        pts = np.array(points)
+        d = np.linalg.norm(pts[:, None] - pts[None], axis=2)
+        for a, b in zip(*np.nonzero(np.triu(d <= delta, 1))):
+            parent[find(a)] = find(b)
+    return [find(k) for k in range(n)]
+
+
+def _piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray, p1: FloatArray) -> FloatArray:
+    """The stroke between arc lengths s0 < s1, its ends replaced by the node points p0, p1."""
+    inner = stroke[(cum > s0) & (cum < s1)]
+    return np.vstack([p0, inner, p1])
+
+
+def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> StrokeGraph:
+    """The stroke network of filtered strokes (each (n_i, 3), mm) with touching distance delta (mm).
+
+    See the module docstring for the rules; every stroke ends up with edges, or a note saying why
+    it has none."""
+    arrays = [np.asarray(s, dtype=float).reshape(-1, 3) for s in strokes]
+    lengths = [chord_length(a) for a in arrays]
+    notes: dict = {}
+    short = {i for i, L in enumerate(lengths) if L <= delta}
+    for i in short:
+        notes[i] = f"shorter ({lengths[i]:.3g} mm) than the touching distance {delta:.3g} mm: left out"
+    merged = _oversketched([a if i not in short else a[:1].repeat(2, 0) for i, a in enumerate(arrays)],
+                           [L if i not in short else 0.0 for i, L in enumerate(lengths)], delta)
+    merged = {j: i for j, i in merged.items() if j not in short and i not in short}
+    for j, i in merged.items():
+        notes[j] = f"merged into stroke {i} (drawn over it)"
+    live = [i for i in range(len(arrays)) if i not in short and i not in merged]
+
+    cands = _Candidates()
+    trims: dict = {}
+    _crossings(arrays, live, delta, cands, trims)
+    _end_joins(arrays, live, delta, cands)
+
+    # a trimmed stroke keeps only the part out of its run along the other stroke
+    keep_range = {i: [0.0, lengths[i]] for i in live}
+    for i, cuts in trims.items():
+        for at_start, s in cuts:
+            if at_start:
+                keep_range[i][0] = max(keep_range[i][0], s)
+            else:
+                keep_range[i][1] = min(keep_range[i][1], s)
+            notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
+
+    labels = _cluster(cands.points, delta)
+    groups: dict = {}
+    for k, lab in enumerate(labels):
+        groups.setdefault(lab, []).append(k)
+    node_points, node_attach = [], []
+    for ks in groups.values():
+        node_points.append(np.mean([cands.points[k] for k in ks], axis=0))
+        node_attach.append([a for k in ks for a in cands.attach[k]])
+
+    # per stroke: the nodes along it at their arc lengths (one attachment per node and place)
+    along: dict = {i: [] for i in live}
+    for nid, att in enumerate(node_attach):
+        for i, s in att:
+            lo, hi = keep_range[i]
+            s = min(max(s, lo), hi)
+            if any(n == nid and abs(s - s2) <= PROXIMITY * delta for n, s2 in along[i]):
+                continue
+            along[i].append((nid, s))
+
+    nodes_kind: dict = {}
+    out_edges: list = []
+    extra_points: list = []
+    for i in live:
+        cum = cumulative_length(arrays[i])
+        lo, hi = keep_range[i]
+        marks = sorted(along[i], key=lambda x: x[1])
+        # merge marks of different nodes that fall at (nearly) the same place: the first wins
+        kept: list = []
+        for nid, s in marks:
+            if kept and abs(s - kept[-1][1]) <= 1e-9 * lengths[i] and kept[-1][0] != nid:
+                continue
+            kept.append((nid, s))
+        marks = kept
+        if not marks:
+            notes.setdefault(i, "isolated: it touches no other stroke")
+        # free end pieces: hooks are removed, longer pieces dangle from an end node
+        ends = []
+        if marks:
+            first, last = marks[0][1], marks[-1][1]
+            for piece_len, at_start in ((first - lo, True), (hi - last, False)):
+                if piece_len <= 1e-9 * max(lengths[i], 1.0):
+                    continue
+                if piece_len <= min(HOOK * delta, HOOK_FRACTION * lengths[i]):
+                    note = f"hook of {piece_len:.3g} mm removed at its {'start' if at_start else 'end'}"
+                    notes[i] = notes[i] + "; " + note if i in notes else note
+                    continue
+                ends.append(at_start)
+        else:
+            ends = [True, False]
+        for at_start in ends:
+            nid = len(node_points) + len(extra_points)
+            s = lo if at_start else hi
+            extra_points.append(point_at_length(arrays[i], s))
+            nodes_kind[nid] = "end"
+            marks = [(nid, s)] + marks if at_start else marks + [(nid, s)]
+        all_points = node_points + extra_points
+        for (n0, s0), (n1, s1) in zip(marks[:-1], marks[1:]):
+            if s1 - s0 <= 1e-9 * max(lengths[i], 1.0):
+                continue
+            pts = _piece(arrays[i], cum, s0, s1, all_points[n0], all_points[n1])
+            if n0 == n1 and chord_length(pts) <= 2 * PROXIMITY * delta:
+                continue
+            out_edges.append((n0, n1, pts, i, s0, s1))
+
+    all_points = node_points + extra_points
+    edges = _merge_parallel(out_edges, delta)
+    used_nodes = sorted({n for e in edges for n in (e[0], e[1])})
+    renum = {n: k for k, n in enumerate(used_nodes)}
+    strokes_at: dict = {}
+    for n0, n1, _, i, _, _ in edges:
+        strokes_at.setdefault(n0, set()).add(i)
+        strokes_at.setdefault(n1, set()).add(i)
+    deg: dict = {}
+    for n0, n1, *_ in edges:
+        deg[n0] = deg.get(n0, 0) + 1
+        deg[n1] = deg.get(n1, 0) + 1
+    nodes = []
+    for n in used_nodes:
+        if nodes_kind.get(n) == "end":
+            kind = "end"
+        elif deg[n] >= 4 or (deg[n] == 3 and len(strokes_at[n]) >= 2 and _passes_through(n, edges)):
+            kind = "crossing" if deg[n] >= 4 else "T"
+        else:
+            kind = "corner"
+        nodes.append(GraphNode(renum[n], np.array(all_points[n]), kind))
+    graph_edges = tuple(GraphEdge(k, renum[n0], renum[n1], np.asarray(p), i, float(s0), float(s1))
+                        for k, (n0, n1, p, i, s0, s1) in enumerate(edges))
+    for i in live:
+        if not any(e.stroke == i for e in graph_edges):
+            notes.setdefault(i, "no piece of it is left between nodes")
+    return StrokeGraph(tuple(nodes), graph_edges, float(delta), tuple(arrays), notes, merged)
+
+
+def _passes_through(n: int, edges: list) -> bool:
+    """True when some stroke has two edges at node n (it runs through it)."""
+    count: dict = {}
+    for n0, n1, _, i, _, _ in edges:
+        count[i] = count.get(i, 0) + (n0 == n) + (n1 == n)
+    return any(c >= 2 for c in count.values())
+
+
+def _merge_parallel(edges: list, delta: float) -> list:
+    """Edges joining the same two nodes and lying within delta of each other (over-sketched runs
+    between the same nodes) are one: the first drawn is kept."""
+    out: list = []
+    for e in edges:
+        n0, n1, pts = e[0], e[1], e[2]
+        dup = False
+        for f in out:
+            if {f[0], f[1]} != {n0, n1} or n0 == n1:
+                continue
+            d, _ = _nearest_on(pts, f[2])
+            if np.mean(d <= delta) >= OVERSKETCH_COVER:
+                dup = True
+                break
+        if not dup:
+            out.append(e)
+    return out

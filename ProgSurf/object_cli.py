@@ -1,0 +1,87 @@
+"""`build --surfaces all|one|auto` (issue 18): the whole-object branch of the command line.
+
+`all` builds every surface of the stroke network (app.objects) into one shell per connected
+part; `one` is the single progressive surface (cli.run_build as before); `auto` (the default)
+builds one surface when one loop encloses the other strokes (core.objects.choose_mode: one open
+sheet of curves, or no loop at all) and every surface otherwise. --boundary-count names one
+surface's boundary, so with it `auto` is `one`.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+from typing import Optional
+
+from .core.errors import ProgSurfError
+
+
+def wants_object(args, strokes: list, tol) -> Optional[tuple]:
+    """The stroke network to build every surface of (core.objects.stroke_network's result), or
+    None when the command is to build the single surface."""
+    mode = getattr(args, "surfaces", "one")
+    if mode == "one" or (mode == "auto" and args.boundary_count is not None):
+        return None
+    if mode == "all" and (args.boundary_count is not None or args.skin):
+        raise ProgSurfError("--surfaces all builds every loop of the network; --boundary-count and --skin "
+                            "name one surface: give --surfaces one with them")
+    from .core.objects import choose_mode, stroke_network
+
+    network = stroke_network(strokes, tol)
+    if mode == "auto" and choose_mode(network[1]) == "one":
+        return None
+    return network
+
+
+def _write_fcstd(path: str, strokes: list, shape) -> None:
+    """A document with the strokes (ProgSurf.app stroke objects) and the object's shell as a
+    Part::Feature (one parametric object for the whole network is still to come)."""
+    import FreeCAD
+
+    from .app import make
+
+    doc = FreeCAD.newDocument("ProgSurfObject")
+    try:
+        for i, p in enumerate(strokes):
+            make.make_stroke_from_points(p, name=f"Stroke{i:03d}", doc=doc, recompute=False)
+        doc.addObject("Part::Feature", "ObjectShell").Shape = shape
+        doc.recompute()
+        doc.saveAs(os.path.abspath(path))
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
+def run_object_build(args, strokes: list, tol, network: tuple, timings: dict, out=sys.stdout) -> dict:
+    """Build every surface, write STEP (and IGES, FCStd, PNG, the report), print the summary;
+    returns the report."""
+    from . import cad
+    from .app.objects import build_object_and_measure, object_report, object_summary
+    from .io.report import write_report
+
+    outcome = build_object_and_measure(strokes, tol, continuity=args.continuity, network=network)
+    timings.update(outcome.timings_s)
+    shape = outcome.shape
+    clock = time.perf_counter()
+    outputs = {"step": args.output}
+    cad.export_step(shape, args.output)
+    if args.iges:
+        cad.export_iges(shape, args.iges)
+        outputs["iges"] = args.iges
+    timings["export"] = time.perf_counter() - clock
+    if args.png:
+        from .cad.render import render_png
+
+        used = [r.used for r in outcome.build.roles]
+        render_png(shape, args.png, strokes, [not u for u in used],
+                   title=f"{len(outcome.build.surfaces)} surfaces, {len(shape.Faces)} faces, "
+                         f"{sum(used)}/{len(used)} strokes")
+        outputs["png"] = args.png
+    if args.fcstd:
+        _write_fcstd(args.fcstd, strokes, shape)
+        outputs["fcstd"] = args.fcstd
+    report = object_report(outcome, inputs=args.inputs, outputs=outputs, timings_s=timings)
+    if args.report:
+        write_report(report, args.report)
+    if not args.quiet:
+        out.write(object_summary(report) + "\n")
+    return report

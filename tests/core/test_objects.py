@@ -1,0 +1,97 @@
+"""Whole-object mode (core.objects, cad.object_shell, app.objects): every surface the stroke network
+bounds, sewn into one shell per connected part; with known answers (a cube's edges give 6 faces in
+one closed valid shell, a cylinder's rims and rulings a closed tube, a saddle grid 4 surfaces on the
+saddle, a square with a dangling stroke one surface with it inside), and every stroke accounted for."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ProgSurf.app.objects import build_object_and_measure, object_report
+from ProgSurf.core.objects import build_object, choose_mode, stroke_network
+from ProgSurf.core.errors import ProgSurfError
+from test_stroke_graph import cube_edges, cylinder, grid, line
+
+SADDLE = staticmethod(lambda x, y: 0.3 * (x - 1.5) * (y - 1.5))
+
+
+def face_points(shape, n=7):
+    out = []
+    for f in shape.Faces:
+        u0, u1, v0, v1 = f.ParameterRange
+        for u in np.linspace(u0, u1, n):
+            for v in np.linspace(v0, v1, n):
+                out.append(tuple(f.valueAt(u, v)))
+    return np.array(out)
+
+
+def test_cube_edges_give_one_closed_valid_shell_of_six_faces():
+    out = build_object_and_measure(cube_edges())
+    assert len(out.build.surfaces) == 6
+    assert len(out.model.shells) == 1
+    shell = out.model.shells[0]
+    assert shell.ShapeType == "Shell" and shell.isClosed() and shell.isValid() and len(shell.Faces) == 6
+    # a closed shell bounds the cube: its volume as a solid is the cube's, 10^3 mm^3
+    import Part
+    assert Part.Solid(shell).Volume == pytest.approx(1000.0, rel=1e-3)
+    assert all(r.boundary_of and len(r.boundary_of) == 2 for r in out.build.roles)
+    assert out.problems == []
+
+
+def test_cylinder_rims_and_rulings_give_a_tube_closed_around():
+    out = build_object_and_measure(cylinder())
+    assert len(out.model.shells) == 1
+    info = out.shells[0]
+    # four faces around: the four rulings shared, the rims free (a tube, open at its ends)
+    assert info["faces"] == 4 and info["valid"] and not info["closed"]
+    assert info["shared_edges"] == 4 and info["free_edges"] == 8
+    pts = face_points(out.shape)
+    radius = np.linalg.norm(pts[:, :2], axis=1)
+    assert np.abs(radius - 5.0).max() < 0.25        # the Coons faces of four quarter arcs: near the cylinder
+
+
+def test_saddle_grid_gives_four_surfaces_on_the_saddle():
+    strokes = grid(lambda x, y: 0.3 * (x - 1.5) * (y - 1.5))
+    out = build_object_and_measure(strokes)
+    assert len(out.build.surfaces) == 4 and len(out.model.shells) == 1
+    pts = face_points(out.shape)
+    err = np.abs(pts[:, 2] - 0.3 * (pts[:, 0] - 1.5) * (pts[:, 1] - 1.5)).max()
+    # The paper's Coons patch (Eq. 1, cubic Hermite blends f(t) = 3t^2 - 2t^3) of a bilinear cell
+    # S = ... + c uv misses it by c (f(u) - u)(f(v) - v), at most c * 0.0962^2 (c = 0.3 * 1.5^2
+    # here): 0.0062 mm, far above the fit tolerance (4.5e-4 mm); faces whose sides are sampled
+    # unevenly miss it by up to twice that. Each face is within the fit tolerance of its own Coons
+    # patch (fit_deviation_mm).
+    coons_bound = 0.3 * 1.5 ** 2 * 0.0962 ** 2
+    assert err <= 2 * coons_bound
+    assert max(out.fit_deviation_mm) <= out.build.tol.fit_mm
+    assert out.shells[0]["shared_edges"] == 4 and out.shells[0]["seam_gap_max_mm"] <= out.model.tolerance
+    # the grid is one open sheet: --surfaces auto builds it as one surface
+    assert choose_mode(stroke_network(strokes)[1]) == "one"
+
+
+def test_dangling_stroke_is_an_interior_stroke_of_its_loop():
+    square = [line([0, 0, 0], [10, 0, 0]), line([10, 0, 0], [10, 10, 0]), line([10, 10, 0], [0, 10, 0]),
+              line([0, 10, 0], [0, 0, 0])]
+    bump = np.c_[np.linspace(5, 5, 20), np.linspace(0.05, 6, 20), np.sin(np.linspace(0, np.pi, 20))]
+    outside = line([20, 0, 0], [25, 3, 0])
+    build = build_object(square + [bump, outside])
+    assert len(build.surfaces) == 1
+    roles = build.roles
+    assert [r.boundary_of for r in roles[:4]] == [(0,)] * 4
+    assert roles[4].interior_to == (0,) and roles[4].used
+    assert not roles[5].used and "isolated" in roles[5].reason
+
+
+def test_cube_and_cylinder_apart_are_two_parts_and_auto_builds_all():
+    strokes = cube_edges() + [s + np.array([40.0, 0, 0]) for s in cylinder()]
+    network = stroke_network(strokes)
+    assert choose_mode(network[1]) == "all"
+    out = build_object_and_measure(strokes, network=network)
+    assert sorted(s["faces"] for s in out.shells) == [4, 6]
+    report = object_report(out)
+    assert report["strokes_used"] == len(strokes) and len(report["surfaces"]) == 10
+
+
+def test_no_loop_is_refused_with_the_reason():
+    with pytest.raises(ProgSurfError, match="no closed loop"):
+        build_object([line([0, 0, 0], [10, 0, 0]), line([5, -5, 0], [5, 5, 0])])

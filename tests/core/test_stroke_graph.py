@@ -1,0 +1,141 @@
+"""The stroke network (core.stroke_graph) and its surface cycles (core.stroke_cycles), on sketches
+with a known answer: a T-junction, a dangling stroke, an over-sketched pair, a hook, a grid, a
+cube's edges, a cylinder's rims and rulings, one loop; invariant under a rigid motion."""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from ProgSurf.core.stroke_cycles import find_cycles
+from ProgSurf.core.stroke_graph import build_stroke_graph, segment_distances
+
+
+def line(a, b, n=20):
+    return np.linspace(np.asarray(a, float), np.asarray(b, float), n)
+
+
+def cube_edges(size=10.0, n=20):
+    v = np.array(list(itertools.product([0, 1], [0, 1], [0, 1])), float) * size
+    return [line(v[a], v[b], n) for a in range(8) for b in range(a + 1, 8) if np.sum(v[a] != v[b]) == 1]
+
+
+def cylinder(radius=5.0, height=12.0, rulings=4, phase=0.3):
+    th = np.linspace(0, 2 * np.pi, 81)
+    rims = [np.c_[radius * np.cos(th), radius * np.sin(th), np.full_like(th, z)] for z in (0.0, height)]
+    angles = np.arange(rulings) * 2 * np.pi / rulings + phase
+    return rims + [line([radius * np.cos(a), radius * np.sin(a), 0], [radius * np.cos(a), radius * np.sin(a), height])
+                   for a in angles]
+
+
+def grid(z=lambda x, y: 0 * x, n=3, size=3.0, samples=30):
+    def lift(p):
+        return np.c_[p, z(p[:, 0], p[:, 1])]
+    ticks = np.linspace(0, size, n)
+    return ([lift(line([0, y], [size, y], samples)) for y in ticks]
+            + [lift(line([x, 0], [x, size], samples)) for x in ticks])
+
+
+def rigid(strokes, seed=3):
+    rng = np.random.default_rng(seed)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    q *= np.sign(np.linalg.det(q))
+    shift = rng.normal(size=3) * 50
+    return [s @ q.T + shift for s in strokes]
+
+
+def test_segment_distances_of_two_skew_segments():
+    a = np.array([[0.0, 0, 0], [2, 0, 0]])
+    b = np.array([[1.0, -1, 0.5], [1, 1, 0.5]])
+    d, s, t = segment_distances(a, b)
+    assert d[0, 0] == pytest.approx(0.5) and s[0, 0] == pytest.approx(0.5) and t[0, 0] == pytest.approx(0.5)
+
+
+def test_t_junction_makes_one_t_node_splitting_the_bar():
+    g = build_stroke_graph([line([0, 0, 0], [10, 0, 0]), line([5, 0.1, 0], [5, 8, 0])], 0.3)
+    t = [n for n in g.nodes if n.kind == "T"]
+    assert len(t) == 1 and np.allclose(t[0].point, [5, 0.05, 0], atol=1e-9)
+    assert sorted(e.stroke for e in g.edges) == [0, 0, 1]
+    assert all(t[0].id in (e.node0, e.node1) for e in g.edges)
+    # a T-junction alone bounds nothing: every edge dangles
+    assert find_cycles(g).cycles == ()
+
+
+def test_dangling_stroke_stays_dangling_and_edges_meet_at_nodes():
+    square = [line([0, 0, 0], [10, 0, 0]), line([10, 0, 0], [10, 10, 0]), line([10, 10, 0], [0, 10, 0]),
+              line([0, 10, 0], [0, 0, 0])]
+    g = build_stroke_graph(square + [line([5, 0.1, 0], [5, 6, 0])], 0.3)
+    ends = [n for n in g.nodes if n.kind == "end"]
+    assert len(ends) == 1 and np.allclose(ends[0].point, [5, 6, 0])
+    for e in g.edges:       # edge ends are the node points exactly
+        assert np.array_equal(e.points[0], g.nodes[e.node0].point)
+        assert np.array_equal(e.points[-1], g.nodes[e.node1].point)
+    choice = find_cycles(g)
+    assert len(choice.cycles) == 1
+    assert {g.edges[e].stroke for e in choice.dangling} == {4}
+
+
+def test_oversketched_pair_merges_and_hook_is_removed():
+    base = line([0, 0, 0], [10, 0, 0])
+    over = line([0.5, 0.05, 0], [9.0, 0.05, 0])
+    cross = np.vstack([line([3, -3, 0], [3, 3, 0]), [[3.4, 3.2, 0]]])     # a 0.45 mm hook at its end
+    g = build_stroke_graph([base, over, cross], 0.3)
+    assert g.merged == {1: 0} and "merged into stroke 0" in g.notes[1]
+    assert not g.edges_of_stroke(1)
+    assert "hook" not in g.notes.get(2, "")         # 3 mm past the crossing is no hook
+    hooked = build_stroke_graph([base, np.vstack([line([3, 3, 0], [3, 0.2, 0]), [[3.5, 0.1, 0]]])], 0.3)
+    assert "hook" not in hooked.notes.get(1, "")
+    short_hook = build_stroke_graph([base, line([3, 3, 0], [3, -0.4, 0])], 0.3)
+    assert "hook of 0.4 mm removed at its end" in short_hook.notes[1]
+    assert len(short_hook.edges_of_stroke(1)) == 1
+
+
+def test_grid_of_crossing_curves():
+    g = build_stroke_graph(grid(), 0.06)
+    kinds = sorted(n.kind for n in g.nodes)
+    assert kinds == ["T"] * 4 + ["corner"] * 4 + ["crossing"]
+    assert len(g.edges) == 12
+    choice = find_cycles(g)
+    assert sorted(len(c.sides) for c in choice.cycles) == [4, 4, 4, 4]
+    assert [len(c.sides) for c, _ in choice.dropped] == [8]       # the grid's border, the outer face
+
+
+@pytest.mark.parametrize("move", [False, True])
+def test_cube_edges_give_six_quads_each_edge_twice(move):
+    strokes = cube_edges()
+    g = build_stroke_graph(rigid(strokes) if move else strokes, 0.35)
+    assert len(g.nodes) == 8 and len(g.edges) == 12
+    choice = find_cycles(g)
+    assert sorted(len(c.sides) for c in choice.cycles) == [4] * 6
+    uses = [e for c in choice.cycles for e, _ in c.sides]
+    assert sorted(uses) == sorted(list(range(12)) * 2)
+
+
+def test_cylinder_rims_and_rulings_give_four_cycles_not_the_rims():
+    g = build_stroke_graph(cylinder(), 0.3)
+    choice = find_cycles(g)
+    assert len(choice.cycles) == 4
+    rims = {0, 1}
+    assert all({g.edges[e].stroke for e in c.edge_ids} & rims == rims for c in choice.cycles)
+    assert all({g.edges[e].stroke for e, _ in c.sides} <= rims for c, _ in choice.dropped)
+    used = [e for c in choice.cycles for e, _ in c.sides]
+    assert all(used.count(e) == 1 for e in set(used) if g.edges[e].stroke in rims)     # rims bound once
+    assert all(used.count(e) == 2 for e in set(used) if g.edges[e].stroke not in rims)  # rulings twice
+
+
+def test_saddle_grid_gives_four_cycles():
+    g = build_stroke_graph(grid(lambda x, y: 0.3 * (x - 1.5) * (y - 1.5)), 0.06)
+    assert sorted(len(c.sides) for c in find_cycles(g).cycles) == [4, 4, 4, 4]
+
+
+def test_one_loop_gives_one_cycle():
+    g = build_stroke_graph([line([0, 0, 0], [10, 0, 0]), line([10, 0, 0], [10, 10, 0]),
+                            line([10, 10, 0], [0, 10, 0]), line([0, 10, 0], [0, 0, 0])], 0.3)
+    assert [len(c.sides) for c in find_cycles(g).cycles] == [4]
+
+
+def test_isolated_and_tiny_strokes_are_explained():
+    g = build_stroke_graph([line([0, 0, 0], [10, 0, 0]), line([0, 5, 0], [10, 5, 0]), line([3, 3, 0], [3.1, 3, 0])], 0.3)
+    assert "isolated" in g.notes[0] and "isolated" in g.notes[1]
+    assert "shorter" in g.notes[2]
