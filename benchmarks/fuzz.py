@@ -531,7 +531,9 @@ class Fuzzer:
             for i, case in enumerate(pool.map(self.run_case, numbers), 1):
                 cases.append(case)
                 if case.outcome == "BAD" or i % 25 == 0:
-                    self.log(f"[{i}/{len(numbers)} {time.perf_counter() - clock:.0f} s] case {case.number} "
+                    counts = Counter(c.outcome for c in cases)
+                    self.log(f"[{i}/{len(numbers)} {time.perf_counter() - clock:.0f} s; "
+                             + " ".join(f"{o} {counts.get(o, 0)}" for o in OUTCOMES) + f"] case {case.number} "
                              f"{case.source} {case.mutation}: {case.outcome} {case.reason[:160]}")
         self.seconds = time.perf_counter() - clock
         return cases
@@ -633,19 +635,27 @@ def compare_main(step: str, against: Optional[str], transform: Optional[str]) ->
         return got
     base = Part.Shape()
     base.read(against)
-    m = np.array(json.loads(transform))
+    to_mutated, to_base = shell_distance(base, shape, np.array(json.loads(transform)))
+    got.update(base_faces=len(base.Faces), distance_max=max(to_mutated, to_base),
+               distance_base_to_mutated=to_mutated, distance_mutated_to_base=to_base)
+    return got
+
+
+def shell_distance(base, shape, transform: Optional[np.ndarray] = None) -> tuple:
+    """How far the shell `shape` is from the shell `base` moved by transform (4, 4) (default: not
+    moved), both ways, in base's units: (largest distance of base's sample points, moved, from
+    shape; largest distance of shape's sample points, moved back, from base). Both are Part shapes
+    of plain B-spline faces (ProgSurf's); each face is sampled on a grid of its parameters."""
+    m = np.eye(4) if transform is None else np.asarray(transform, dtype=float)
     lin, shift = m[:3, :3], m[:3, 3]
     k = abs(np.linalg.det(lin)) ** (1 / 3)
     inv = np.linalg.inv(lin)
     base_faces, mut_faces = _evaluators(base), _evaluators(shape)
     base_pts, mut_pts = _samples(base_faces, 3000)[0], _samples(mut_faces, 3000)[0]
     base_dense, mut_dense = _samples(base_faces, 20000, True), _samples(mut_faces, 20000, True)
-    # base points moved into the mutated frame, distances scaled back; mutated points moved back
     d1 = _distances(base_pts @ lin.T + shift, mut_faces, mut_dense) / k
     d2 = _distances((mut_pts - shift) @ inv.T, base_faces, base_dense)
-    got.update(base_faces=len(base.Faces), distance_max=float(max(d1.max(), d2.max())),
-               distance_base_to_mutated=float(d1.max()), distance_mutated_to_base=float(d2.max()))
-    return got
+    return float(d1.max()), float(d2.max())
 
 
 def main(argv=None) -> int:
