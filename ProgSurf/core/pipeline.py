@@ -98,7 +98,8 @@ def processing_order(stroke: np.ndarray, centre: np.ndarray, tie_mm: float) -> b
     """Whether an interior stroke is added reversed: the progressive update walks a stroke from its
     first point (the over-sketch trimmed at the first end first, straight pieces inserted in turn,
     the first extended across the second's start), so a stroke drawn the other way made another
-    surface (issue 17: up to 120 times the fit tolerance on `three_sided`). Every interior stroke is
+    surface (issue 17: on `three_sided`, whose one interior stroke is two straight pieces, the
+    other half was extended). Every interior stroke is
     therefore added starting from its end farther from `centre` (the centre of the boundary
     strokes' points), whichever way it was drawn; a rigid motion or a scaling of the sketch keeps
     that choice. Ends equally far within tie_mm keep the drawing order.
