@@ -25,6 +25,11 @@ FAIR_FRACTION = 0.05
 """Automatic fairing tolerance: this fraction of the snap distance, well above tracker jitter
 and well under the distance at which a stroke end counts as touching a boundary."""
 
+TIE_FRACTION = 1e-6
+"""Two stroke ends whose distances from the boundary's centre differ by less than this fraction of
+the fit tolerance are a tie (see `processing_order`): far above round-off, so that a rotated or
+moved sketch orders every stroke as the original does."""
+
 Progress = Callable[[int, int, str], None]
 """progress(done, total, message): called after each stage and each interior stroke."""
 
@@ -87,6 +92,28 @@ def _kept_points(raw: np.ndarray, parts: list) -> np.ndarray:
         at_end = ((j == 0) & (wj <= 0.0)) | ((j == len(piece) - 2) & (wj >= 1.0))
         keep |= ~at_end
     return raw[keep] if keep.any() else raw
+
+
+def processing_order(stroke: np.ndarray, centre: np.ndarray, tie_mm: float) -> bool:
+    """Whether an interior stroke is added reversed: the progressive update walks a stroke from its
+    first point (the over-sketch trimmed at the first end first, straight pieces inserted in turn,
+    the first extended across the second's start), so a stroke drawn the other way made another
+    surface (issue 17: on `three_sided`, whose one interior stroke is two straight pieces, the
+    other half was extended). Every interior stroke is
+    therefore added starting from its end farther from `centre` (the centre of the boundary
+    strokes' points), whichever way it was drawn; a rigid motion or a scaling of the sketch keeps
+    that choice. Ends equally far within tie_mm keep the drawing order.
+
+    stroke : (n, 3) the stroke as drawn;  centre : (3,)"""
+    d0, d1 = np.linalg.norm(stroke[0] - centre), np.linalg.norm(stroke[-1] - centre)
+    return bool(d1 - d0 > tie_mm)
+
+
+def _as_drawn(rec: StrokeRecord) -> StrokeRecord:
+    """The record of a stroke added reversed, turned back to its drawing order."""
+    return replace(rec, points=None if rec.points is None else rec.points[::-1].copy(),
+                   pre_image=None if rec.pre_image is None else rec.pre_image[::-1].copy(),
+                   ends=tuple(reversed(rec.ends)), end_offsets_mm=tuple(reversed(rec.end_offsets_mm)))
 
 
 def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop, interior: list,
@@ -172,6 +199,7 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
         progress(2, total, "base surface")
 
     used = {i for side in loop.source for i in side}
+    centre = np.concatenate([arrays[i] for i in sorted(used)] or arrays).mean(axis=0)
     for i in range(len(arrays)):
         if i not in interior and i not in records:
             note = "boundary side" if i in used else "boundary stroke not used in the closed loop"
@@ -181,10 +209,13 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
     for k, i in enumerate(todo, start=len(interior) - len(todo)):
         clock = time.perf_counter()
         # rounded (1e-9 mm on the examples) so that a save/reopen round trip fairs the same
-        pts = round_points(filter_stroke(arrays[i], tol.filter_mm), tol.fit_mm)
+        reverse = processing_order(arrays[i], centre, TIE_FRACTION * tol.fit_mm)
+        drawn = arrays[i][::-1] if reverse else arrays[i]
+        pts = round_points(filter_stroke(drawn, tol.filter_mm), tol.fit_mm)
         stol = replace(tol, fair_mm=stroke_tolerance(pts, tol.fair_mm, tol.snap_mm))
         faired, _ = fair_stroke(pts, stol.fair_mm, sag)
         rec = add_stroke(net, faired, i, stol, tol.snap_mm, falloff)
+        rec = _as_drawn(rec) if reverse else rec
         records[i] = replace(rec, fair_deviation_mm=_fair_deviation(pts, faired) if len(pts) > 1 else 0.0)
         timings[f"stroke {i}"] = time.perf_counter() - clock
         if progress:

@@ -161,19 +161,8 @@ def sketch_diagonal(points: npt.ArrayLike) -> float:
     return float(np.linalg.norm(local.max(axis=0) - local.min(axis=0)))
 
 
-def filter_stroke(points: npt.ArrayLike, threshold: float) -> FloatArray:
-    """Qin & Wright, section 2: drop sketch points closer than `threshold` (mm, 3D distance)
-    to the last kept point. The first and the last point are always kept; when the last point
-    falls within `threshold` of the last kept interior point, that interior point gives way to it
-    so that no segment is shorter than needed.
-
-    points : (n, 3) float, n >= 1.  Returns a new (m, 3) array, m <= n.
-    """
-    if not np.isfinite(threshold) or threshold < 0:
-        raise InvalidOptionError(
-            f"filter threshold {threshold!r} mm is invalid; give a finite distance >= 0 (or None for automatic)"
-        )
-    pts = np.array(points, dtype=float).reshape(-1, 3)
+def _filter_from_start(pts: FloatArray, threshold: float) -> FloatArray:
+    """The paper's greedy filter run from the first point (see filter_stroke)."""
     n = pts.shape[0]
     if n <= 2:
         return pts
@@ -187,6 +176,43 @@ def filter_stroke(points: npt.ArrayLike, threshold: float) -> FloatArray:
         keep.pop()
     keep.append(n - 1)
     return pts[keep]
+
+
+def filter_stroke(points: npt.ArrayLike, threshold: float) -> FloatArray:
+    """Qin & Wright, section 2: drop sketch points closer than `threshold` (mm, 3D distance)
+    to the last kept point. The first and the last point are always kept; when the last point
+    falls within `threshold` of the last kept interior point, that interior point gives way to it
+    so that no segment is shorter than needed.
+
+    The filter runs from both ends towards the stroke's middle point (for an even number of
+    points, the two middle points, or the point halfway between them when they are closer than
+    the threshold), which is kept: a stroke drawn the other way keeps the same
+    points, so the direction of drawing does not change the surface (issue 17; run from the first
+    point only, it kept another subset of a rough stroke, and the fair curve through it moved the
+    rough4 example's surface by 26 times the fit tolerance). Only the gaps next to the middle
+    point(s) may be shorter than the threshold.
+
+    points : (n, 3) float, n >= 1.  Returns a new (m, 3) array, m <= n: input points, in order,
+    but for that one halfway point.
+    """
+    if not np.isfinite(threshold) or threshold < 0:
+        raise InvalidOptionError(
+            f"filter threshold {threshold!r} mm is invalid; give a finite distance >= 0 (or None for automatic)"
+        )
+    pts = np.array(points, dtype=float).reshape(-1, 3)
+    n = pts.shape[0]
+    if n <= 2:
+        return pts
+    h = n // 2
+    if n % 2 == 0 and np.linalg.norm(pts[h] - pts[h - 1]) < threshold:
+        # two middle points closer than the threshold: one point between them, on the stroke
+        pts = np.vstack([pts[:h], 0.5 * (pts[h - 1] + pts[h]), pts[h:]])
+        n += 1
+    if n % 2:
+        head = _filter_from_start(pts[:h + 1], threshold)
+        tail = _filter_from_start(pts[h:][::-1], threshold)[::-1]
+        return np.vstack([head, tail[1:]])
+    return np.vstack([_filter_from_start(pts[:h], threshold), _filter_from_start(pts[h:][::-1], threshold)[::-1]])
 
 
 def auto_filter_threshold(strokes: Sequence[npt.ArrayLike]) -> float:
