@@ -96,4 +96,9 @@ def test_accepted_strokes_lie_on_the_exported_surface(built):
     d = np.asarray(built.step_back["point_distances_mm"])
     assert d.max() <= built.result.tol.snap_mm
     here = np.concatenate([cad.point_distances(built.shell, r.points) for r in built.kept])
-    assert np.allclose(d, here, atol=1e-3)
+    # the same surfaces, so the same distances, up to where a projection settles: near a seam
+    # the two processes may stop at footpoints on different faces (clean4: 0.0014 vs 0.0003 mm
+    # for one of 451 points); a quarter of the fit tolerance still catches a surface moved by
+    # the export
+    assert np.allclose(d, here, atol=max(1e-3, 0.25 * built.result.tol.fit_mm))
+
