@@ -39,16 +39,16 @@ EXIT_OK, EXIT_BAD_INPUT, EXIT_QUALITY = 0, 2, 3
 MAX_STROKES = 400
 """Most strokes one build takes: each interior stroke costs a footpoint search, a network update and
 fold checks on the network it grows, so the time grows faster than the count. The largest real
-sketch at hand, CASSIE's vintage_car (163 strokes), takes 2.5 to 7 minutes on a loaded 2-core
-machine; 2000 short strokes ran for more than 5 minutes before this limit."""
+sketch at hand, CASSIE's vintage_car (163 strokes), took 7.5 minutes on a 2-core machine loaded
+six times over; 2000 short strokes ran for more than 5 minutes before this limit."""
 MAX_POINTS = 200_000
 """Most points in all strokes together (the boundary's closing step compares every segment of one
 side with every segment of the next at once). vintage_car holds about 1900."""
 SKETCH_MM_RANGE = (1e-3, 1e9)
 """Smallest and largest sketch diagonal (mm) built. The tolerances scale with the sketch, but OCC's
 sewing and tolerances do not below its fixed precision (1e-7 mm) or where 1e-7 mm is below the
-coordinates' round-off: the bundled examples build from 1e-4 to 1e8 times their size (0.013 mm to
-1.3e10 mm), and at 1e10 times OCC sews them into 0 or 2 shells."""
+coordinates' round-off: clean4 and fig11_general build from 1e-4 to 1e8 times their size (0.014 mm
+to 1.4e10 mm), and at 1e10 times OCC sews them into 0 or 2 shells."""
 FIT_FRACTION_RANGE = (1e-5, 1e-2)
 """--fit-tol allowed, as fractions of the sketch's diagonal (the automatic value is FIT_FRACTION of it).
 Below: the strokes are sampled finer with the tolerance (their chords' sag) and the closing step
