@@ -4,8 +4,14 @@
         [--png OUT.png] [--report OUT.json] [--boundary-count N] [--filter MM] [--snap MM]
         [--fit-tol MM] [--skin] [--continuity G0|G1]
 
-Strokes are taken in file order, then in the order the files are given. Exit 0 on success, 2 on bad
-input (one line on stderr, no traceback), 1 when OCC fails on valid input.
+Strokes are taken in file order, then in the order the files are given.
+
+Exit codes, for every input: 0 built (one valid shell); 2 refused, with one line on stderr that names
+the problem (bad option, unreadable or too large input, an output path that would overwrite an input,
+another output or a directory, or could not be written; an unexpected internal error is also
+reported so, in one line asking for a report); 3 built, but the quality verdict warns. Options and
+output paths are checked before any work, the input's size before the build, so every run ends in
+bounded time.
 
 This module parses the command, reads the strokes, and writes the files and the summary: the build
 and its measurements are the document's own (ProgSurf.app.build.build_and_measure, whose
@@ -14,20 +20,89 @@ build_report makes the JSON report), so the two give the same figures for the sa
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
+import tempfile
 import time
+import warnings
 from typing import Optional, Sequence
 
-from .core.errors import FitError, ProgSurfError
+import numpy as np
+
+from .core.errors import InvalidOptionError, ProgSurfError, StrokeFileError
 from .core.types import FIT_FRACTION, Tolerances
 from .io.c3d import MIN_DURATION_S, MIN_LENGTH_MM
 
-EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_QUALITY = 0, 1, 2, 3
+EXIT_OK, EXIT_BAD_INPUT, EXIT_QUALITY = 0, 2, 3
+
+MAX_STROKES = 400
+"""Most strokes one build takes: each interior stroke costs a footpoint search, a network update and
+fold checks on the network it grows, so the time grows faster than the count. The largest real
+sketch at hand, CASSIE's vintage_car (163 strokes), took 7.5 minutes on a 2-core machine loaded
+six times over; 2000 short strokes ran for more than 5 minutes before this limit."""
+MAX_POINTS = 200_000
+"""Most points in all strokes together (the boundary's closing step compares every segment of one
+side with every segment of the next at once). vintage_car holds about 1900."""
+SKETCH_MM_RANGE = (1e-3, 1e9)
+"""Smallest and largest sketch diagonal (mm) built. The tolerances scale with the sketch, but OCC's
+sewing and tolerances do not below its fixed precision (1e-7 mm) or where 1e-7 mm is below the
+coordinates' round-off: clean4 and fig11_general build from 1e-4 to 1e8 times their size (0.014 mm
+to 1.4e10 mm), and at 1e10 times OCC sews them into 0 or 2 shells."""
+FIT_FRACTION_RANGE = (1e-5, 1e-2)
+"""--fit-tol allowed, as fractions of the sketch's diagonal (the automatic value is FIT_FRACTION of it).
+Below: the strokes are sampled finer with the tolerance (their chords' sag) and the closing step
+grows with the square of that (1e-9 mm on clean4 ran for minutes and gigabytes); above: a face may
+leave its sub-patch by a visible fraction of the sketch, and is clamped with a note."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, whose refusals are one line (its own are the usage block, then the message)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_BAD_INPUT, f"progsurf: error: {message}; see python3 -m ProgSurf build --help\n")
+
+
+def _whole(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+
+
+_NUMBER_OPTIONS = ("--boundary-count", "--filter", "--snap", "--fit-tol", "--min-duration", "--min-length",
+                   "--smooth")
+
+
+def _join_negative_numbers(argv: Sequence[str]) -> list:
+    """'--snap -inf' -> '--snap=-inf': argparse takes a value such as -inf or -1e3 for an option name
+    and refuses with "expected one argument"; joined, the value reaches the range check."""
+    out, k = [], 0
+    while k < len(argv):
+        tok = argv[k]
+        if tok in _NUMBER_OPTIONS and k + 1 < len(argv) and argv[k + 1].startswith("-"):
+            try:
+                float(argv[k + 1])
+            except ValueError:
+                pass
+            else:
+                out.append(f"{tok}={argv[k + 1]}")
+                k += 2
+                continue
+        out.append(tok)
+        k += 1
+    return out
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python3 -m ProgSurf",
+    p = _Parser(prog="python3 -m ProgSurf",
                                 description="Progressive freeform surfaces from 3D sketch strokes "
                                             "(Qin & Wright), written as STEP/IGES.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -38,11 +113,11 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--fcstd", metavar="OUT.FCStd", help="also write a FreeCAD document with strokes and surface")
     b.add_argument("--png", metavar="OUT.png", help="also write a rendered picture")
     b.add_argument("--report", metavar="OUT.json", help="also write the JSON report")
-    b.add_argument("--boundary-count", type=int, metavar="N",
+    b.add_argument("--boundary-count", type=_whole, metavar="N",
                    help="the first N strokes are the boundary (default: classify automatically)")
-    b.add_argument("--filter", type=float, metavar="MM", help="stroke filter distance (default: automatic)")
-    b.add_argument("--snap", type=float, metavar="MM", help="snap distance of stroke ends (default: automatic)")
-    b.add_argument("--fit-tol", type=float, metavar="MM",
+    b.add_argument("--filter", type=_number, metavar="MM", help="stroke filter distance (default: automatic)")
+    b.add_argument("--snap", type=_number, metavar="MM", help="snap distance of stroke ends (default: automatic)")
+    b.add_argument("--fit-tol", type=_number, metavar="MM",
                    help="largest distance of a B-spline face from its Coons sub-patch (default: automatic, "
                         f"{FIT_FRACTION:g} of the sketch's diagonal)")
     b.add_argument("--skin", action="store_true",
@@ -52,11 +127,11 @@ def _parser() -> argparse.ArgumentParser:
                         "seams (kinked strokes stay sharp); default %(default)s")
     b.add_argument("--markers", metavar="LABEL[,LABEL]",
                    help=".c3d inputs: marker labels to draw with (default: the most-moving marker)")
-    b.add_argument("--min-duration", type=float, metavar="S",
+    b.add_argument("--min-duration", type=_number, metavar="S",
                    help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_DURATION_S:g} s)")
-    b.add_argument("--min-length", type=float, metavar="MM",
+    b.add_argument("--min-length", type=_number, metavar="MM",
                    help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_LENGTH_MM:g} mm)")
-    b.add_argument("--smooth", type=int, default=0, metavar="N",
+    b.add_argument("--smooth", type=_whole, default=0, metavar="N",
                    help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
     b.add_argument("--surfaces", choices=["auto", "all", "one"], default="auto",
                    help="all: every surface of the stroke network, one shell per part; one: one surface; "
@@ -66,17 +141,118 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _check_args(args) -> Tolerances:
+    """The options' ranges and the output paths, before any work (InvalidOptionError)."""
     for name in ("filter", "snap", "fit_tol"):
         value = getattr(args, name)
-        if value is not None and not value > 0:
-            raise ProgSurfError(f"--{name.replace('_', '-')} {value} must be a positive distance in mm")
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise InvalidOptionError(f"--{name.replace('_', '-')} {value:g}: give a positive, finite distance "
+                                     "in mm, or leave the option out for the automatic value")
+    for name in ("min_duration", "min_length"):
+        value = getattr(args, name)
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise InvalidOptionError(f"--{name.replace('_', '-')} {value:g}: give a finite number, 0 or more")
+    if args.smooth < 0:
+        raise InvalidOptionError(f"--smooth {args.smooth}: give a window of 0 or more samples")
     if args.boundary_count is not None and args.boundary_count < 3:
-        raise ProgSurfError(f"--boundary-count {args.boundary_count}: a boundary needs at least 3 strokes")
-    for out in filter(None, (args.output, args.iges, args.fcstd, args.png, args.report)):
-        folder = os.path.dirname(os.path.abspath(out))
-        if not os.path.isdir(folder):
-            raise ProgSurfError(f"cannot write {out!r}: folder {folder!r} does not exist")
+        raise InvalidOptionError(f"--boundary-count {args.boundary_count}: a boundary needs at least 3 strokes")
+    _check_outputs(args)
     return Tolerances(filter_mm=args.filter, snap_mm=args.snap, fit_mm=args.fit_tol)
+
+
+def skin_path(output: str) -> str:
+    """Where --skin writes the skinned exchange surface: OUT_skin.step beside OUT.step."""
+    return os.path.splitext(output)[0] + "_skin.step"
+
+
+def _outputs(args) -> list:
+    """(option, path) of every file the command will write."""
+    outs = [("-o", args.output), ("--iges", args.iges), ("--fcstd", args.fcstd), ("--png", args.png),
+            ("--report", args.report)]
+    if args.skin:
+        outs.append(("--skin", skin_path(args.output)))
+    return [(opt, path) for opt, path in outs if path is not None]
+
+
+def _same_file(a: str, b: str) -> bool:
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)      # hard links, bind mounts
+    except OSError:
+        return False
+
+
+def _check_writable_folder(opt: str, path: str, folder: str) -> None:
+    """Refuse a folder that is missing, not a folder, or that this user cannot create a file in: a
+    temporary file is made there and removed (os.access says yes to root on a read-only system)."""
+    if not os.path.isdir(folder):
+        raise InvalidOptionError(f"{opt} {path!r}: folder {folder!r} does not exist")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".progsurf-probe-"):
+            pass
+    except OSError as exc:
+        raise InvalidOptionError(f"{opt} {path!r}: cannot write in folder {folder!r} "
+                                 f"({exc.strerror or exc}); choose another folder") from None
+
+
+def _check_outputs(args) -> None:
+    """Every output is a new or overwritable FILE in a folder this user can write, and no output is
+    an input or another output (the report written over the STEP, or the STEP over the strokes)."""
+    seen: list = []
+    for opt, path in _outputs(args):
+        if not path.strip():
+            raise InvalidOptionError(f"{opt} is an empty path; name the file to write")
+        if os.path.isdir(path):
+            raise InvalidOptionError(f"{opt} {path!r} is a directory; name a file in it, e.g. "
+                                     f"{os.path.join(path, 'out' + _EXTENSIONS[opt])!r}")
+        for src in args.inputs:
+            if _same_file(path, src):
+                raise InvalidOptionError(f"{opt} {path!r} is the input stroke file {src!r}; writing it would "
+                                         "destroy the strokes: name another output file")
+        for other_opt, other in seen:
+            if _same_file(path, other):
+                raise InvalidOptionError(f"{opt} {path!r} is also the {other_opt} file; give each output its "
+                                         "own name")
+        seen.append((opt, path))
+        if os.path.exists(path) and not os.access(path, os.W_OK):
+            raise InvalidOptionError(f"{opt} {path!r} exists and is read-only; choose another name")
+        _check_writable_folder(opt, path, os.path.dirname(os.path.abspath(path)))
+
+
+_EXTENSIONS = {"-o": ".step", "--iges": ".igs", "--fcstd": ".FCStd", "--png": ".png", "--report": ".json",
+               "--skin": ".step"}
+
+
+def _check_size(strokes: list, tol: Tolerances) -> Tolerances:
+    """Refuse an input too large to finish in bounded time, or of a size OCC cannot build; check
+    --fit-tol against the sketch's size (refuse too small, clamp too large with a note on stderr)."""
+    from .core.strokes import sketch_diagonal
+
+    if len(strokes) > MAX_STROKES:
+        raise InvalidOptionError(f"{len(strokes)} strokes: the command line builds at most {MAX_STROKES} "
+                                 "(the time grows faster than the count); split the sketch or leave "
+                                 "strokes out")
+    points = sum(len(s) for s in strokes)
+    if points > MAX_POINTS:
+        raise InvalidOptionError(f"{points} points in all: the command line builds at most {MAX_POINTS}; "
+                                 "thin the strokes (e.g. one point every --filter mm) first")
+    diagonal = sketch_diagonal(np.vstack([np.asarray(s, dtype=float).reshape(-1, 3) for s in strokes]))
+    low, high = SKETCH_MM_RANGE
+    if not low <= diagonal <= high:
+        raise InvalidOptionError(f"the sketch is {diagonal:.3g} mm across; ProgSurf builds sketches from "
+                                 f"{low:g} to {high:g} mm across (OCC's fixed precision): scale it")
+    if tol.fit_mm is None:
+        return tol
+    fmin, fmax = (f * diagonal for f in FIT_FRACTION_RANGE)
+    if tol.fit_mm < fmin:
+        raise InvalidOptionError(f"--fit-tol {tol.fit_mm:g} mm is below {FIT_FRACTION_RANGE[0]:g} of the "
+                                 f"sketch's {diagonal:.4g} mm size; give {fmin:.3g} to {fmax:.3g} mm, or leave "
+                                 f"it out (automatic: {FIT_FRACTION * diagonal:.3g} mm)")
+    if tol.fit_mm > fmax:
+        sys.stderr.write(f"progsurf: note: --fit-tol {tol.fit_mm:g} mm is more than {FIT_FRACTION_RANGE[1]:g} "
+                         f"of the sketch's {diagonal:.4g} mm size; using {fmax:.3g} mm\n")
+        return Tolerances(filter_mm=tol.filter_mm, snap_mm=tol.snap_mm, fit_mm=fmax, fair_mm=tol.fair_mm)
+    return tol
 
 
 def _use_checkout_venv() -> None:
@@ -112,9 +288,10 @@ def _c3d_options(args) -> dict:
     return options
 
 
-def _write_fcstd(path: str, strokes: list, build_result, shape, boundary_count: Optional[int]) -> None:
+def _write_fcstd(path: str, strokes: list, build_result, shape, args) -> None:
     """A document with the strokes (ProgSurf.app stroke objects) and the surface (ProgSurf.app
-    surface object, recomputed by the app layer), plus the exported shell as a plain Part::Feature."""
+    surface object, recomputed by the app layer) as the build asked for it (boundary count,
+    resolved tolerances, continuity, skin), plus the exported shell as a plain Part::Feature."""
     import FreeCAD
 
     from .app import make
@@ -124,11 +301,14 @@ def _write_fcstd(path: str, strokes: list, build_result, shape, boundary_count: 
         objs = [make.make_stroke_from_points(p, name=f"Stroke{i:03d}", doc=doc, recompute=False)
                 for i, p in enumerate(strokes)]
         tol = build_result.tol
-        kwargs = dict(filter_mm=tol.filter_mm, snap_mm=tol.snap_mm, fit_mm=tol.fit_mm, recompute=False)
-        if boundary_count is None:
+        kwargs = dict(filter_mm=tol.filter_mm, snap_mm=tol.snap_mm, fit_mm=tol.fit_mm, skin=args.skin,
+                      recompute=False)
+        count = args.boundary_count
+        if count is None:
             surface = make.make_surface(all_strokes=objs, **kwargs)
         else:
-            surface = make.make_surface(boundary=objs[:boundary_count], interior=objs[boundary_count:], **kwargs)
+            surface = make.make_surface(boundary=objs[:count], interior=objs[count:], **kwargs)
+        surface.Continuity = args.continuity
         shell = doc.addObject("Part::Feature", "ExportedShell")
         shell.Shape = shape
         doc.recompute()
@@ -137,6 +317,18 @@ def _write_fcstd(path: str, strokes: list, build_result, shape, boundary_count: 
         doc.saveAs(os.path.abspath(path))
     finally:
         FreeCAD.closeDocument(doc.Name)
+
+
+def _write(kind: str, path: str, action) -> None:
+    """Run action() that writes path: an OCC or file-system failure is a refusal naming the path
+    (the paths were checked before the build, but a disk can fill or a mount change meanwhile)."""
+    from .cad._occ import Part
+
+    try:
+        action()
+    except (OSError, Part.OCCError) as exc:
+        reason = getattr(exc, "strerror", None) or " ".join(str(exc).split())[:200]
+        raise ProgSurfError(f"cannot write the {kind} file {path!r}: {reason}") from None
 
 
 def run_build(args, out=sys.stdout) -> dict:
@@ -148,6 +340,7 @@ def run_build(args, out=sys.stdout) -> dict:
     timings: dict = {}
     clock = time.perf_counter()
     strokes = _read(args.inputs, _c3d_options(args))
+    tol = _check_size(strokes, tol)
     timings["read"] = time.perf_counter() - clock
     from .object_cli import run_object_build, wants_object
 
@@ -164,41 +357,38 @@ def run_build(args, out=sys.stdout) -> dict:
     timings.update(outcome.timings_s)
     result, shape = outcome.result, outcome.shell.shape
     if len(shape.Shells) != 1 or not shape.isValid():
-        raise FitError(f"OCC made {len(shape.Shells)} shells (valid={shape.isValid()}) instead of one valid "
-                       "shell; report this sketch")
+        raise ProgSurfError(f"OCC made {len(shape.Shells)} shells (valid={shape.isValid()}) instead of one "
+                            "valid shell; please report this sketch")
 
     clock = time.perf_counter()
     outputs = {"step": args.output}
-    cad.export_step(shape, args.output)
+    _write("STEP", args.output, lambda: cad.export_step(shape, args.output))
     if args.iges:
-        cad.export_iges(shape, args.iges)
+        _write("IGES", args.iges, lambda: cad.export_iges(shape, args.iges))
         outputs["iges"] = args.iges
     if outcome.skin is not None:
-        skin, skin_dev = outcome.skin
-        skin_path = os.path.splitext(args.output)[0] + "_skin.step"
-        cad.export_step(skin.toShape(), skin_path)
-        outputs["skin_step"] = skin_path
-        if skin_dev > result.tol.fit_mm:
-            print(f"warning: the skinned exchange surface lies up to {skin_dev:.3g} mm from the patches "
-                  f"(fit tolerance {result.tol.fit_mm:.3g} mm)", file=sys.stderr)
+        _write("STEP", skin_path(args.output),
+               lambda: cad.export_step(outcome.skin[0].toShape(), skin_path(args.output)))
+        outputs["skin_step"] = skin_path(args.output)
     timings["export"] = time.perf_counter() - clock
     if args.png:
         clock = time.perf_counter()
         from .cad.render import render_png
 
-        render_png(shape, args.png, strokes, [r.status == "rejected" for r in result.records],
-                   title=f"{len(shape.Faces)} faces, {len(result.accepted)}/{len(result.records)} strokes")
+        rejected = [r.status == "rejected" for r in result.records]
+        title = f"{len(shape.Faces)} faces, {len(result.accepted)}/{len(result.records)} strokes"
+        _write("PNG", args.png, lambda: render_png(shape, args.png, strokes, rejected, title=title))
         outputs["png"] = args.png
         timings["png"] = time.perf_counter() - clock
     if args.fcstd:
         clock = time.perf_counter()
-        _write_fcstd(args.fcstd, strokes, result, shape, args.boundary_count)
+        _write("FreeCAD document", args.fcstd, lambda: _write_fcstd(args.fcstd, strokes, result, shape, args))
         outputs["fcstd"] = args.fcstd
         timings["fcstd"] = time.perf_counter() - clock
 
     report = build_report(outcome, inputs=args.inputs, outputs=outputs, timings_s=timings)
     if args.report:
-        write_report(report, args.report)
+        _write("report", args.report, lambda: write_report(report, args.report))
     if not args.quiet:
         out.write(summary(report) + "\n")
     return report
@@ -225,14 +415,32 @@ def summary(report: dict) -> str:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    args = _parser().parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = _parser().parse_args(_join_negative_numbers(argv))
     try:
-        report = run_build(args)
+        with warnings.catch_warnings():
+            # the contract is one line on stderr: numeric warnings of intermediate steps are not
+            # the user's to read (what matters is measured and reported)
+            warnings.simplefilter("ignore", RuntimeWarning)
+            report = run_build(args)
     except ProgSurfError as exc:
         sys.stderr.write(f"progsurf: error: {' '.join(str(exc).split())}\n")
-        return EXIT_FAILED if isinstance(exc, FitError) else EXIT_BAD_INPUT
+        return EXIT_BAD_INPUT
     except OSError as exc:
         sys.stderr.write(f"progsurf: error: {exc.strerror or exc}: {exc.filename or ''}\n")
+        return EXIT_BAD_INPUT
+    except MemoryError:
+        sys.stderr.write("progsurf: error: out of memory; give fewer or shorter strokes\n")
+        return EXIT_BAD_INPUT
+    except Exception as exc:   # noqa: BLE001  the last resort: any other failure is one line, not a traceback
+        where = exc.__traceback__
+        while where is not None and where.tb_next is not None:
+            where = where.tb_next
+        origin = (f" at {os.path.basename(where.tb_frame.f_code.co_filename)}:{where.tb_lineno}"
+                  if where is not None else "")
+        message = " ".join(str(exc).split())[:300]
+        sys.stderr.write(f"progsurf: internal error: {type(exc).__name__}: {message}{origin}; please report "
+                         "it with the command and its input files\n")
         return EXIT_BAD_INPUT
     if not report.get("quality", {}).get("ok", True):
         if args.quiet:      # the verdict is part of the summary; quiet still names the problem

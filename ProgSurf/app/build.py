@@ -125,9 +125,10 @@ class Analysis:
         that turns over, a face over its fit allowance (the faces the problems name)."""
         return frozenset(r for f in self.folds for r in f.regions) | frozenset(self.fit_over)
 
-    def verdict(self) -> str:
-        """One line: "quality: ok" or "quality: WARNING ..." naming the first problems."""
-        problems = self.problems
+    def verdict(self, extra: Sequence[str] = ()) -> str:
+        """One line: "quality: ok" or "quality: WARNING ..." naming the first problems (and `extra`
+        ones the caller measured, e.g. the skin's deviation)."""
+        problems = self.problems + list(extra)
         if not problems:
             return "quality: ok (no fold; every face within the fit tolerance)"
         more = f" (and {len(problems) - 2} more)" if len(problems) > 2 else ""
@@ -308,13 +309,24 @@ def build_report(outcome: Outcome, *, inputs: Sequence[str], outputs: Mapping, t
         timings_s=timings_s, inputs=list(inputs), outputs=outputs,
         tolerances={"filter_mm": result.tol.filter_mm, "snap_mm": result.tol.snap_mm,
                     "fit_mm": result.tol.fit_mm},
-        shell=measures.shell, extra=dict(extra, quality=quality_section(analysis), **continuity_section(
+        shell=measures.shell, extra=dict(extra, quality=quality_section(analysis, skin_problems(outcome)),
+                                         **continuity_section(
             shell.continuity, measures.g1_seams, measures.g0_seams, shell.timings_s.get("g1"))))
 
 
-def quality_section(analysis: Analysis) -> dict:
-    """The report's quality checks: folds, faces over the fit tolerance, and the verdict line."""
-    return {"ok": not analysis.problems, "verdict": analysis.verdict(),
+def skin_problems(outcome: Outcome) -> list:
+    """The skinned exchange surface further from the patches than the fit tolerance, as a problem
+    phrase for the verdict (SKIN_LADDER keeps the finest skin when none is within it)."""
+    if outcome.skin is None or outcome.skin[1] <= outcome.analysis.fit_tolerance_mm:
+        return []
+    return [f"the skinned exchange surface lies up to {outcome.skin[1]:.3g} mm from the patches "
+            f"(fit tolerance {outcome.analysis.fit_tolerance_mm:.3g} mm)"]
+
+
+def quality_section(analysis: Analysis, extra: Sequence[str] = ()) -> dict:
+    """The report's quality checks: folds, faces over the fit tolerance, `extra` problems the
+    caller measured, and the verdict line."""
+    return {"ok": not analysis.problems and not extra, "verdict": analysis.verdict(extra),
             "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions),
                        "edge": f.edge} for f in analysis.folds],
             "fit_tolerance_mm": analysis.fit_tolerance_mm,

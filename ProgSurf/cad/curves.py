@@ -75,12 +75,13 @@ def collapsed(points: FloatArray) -> bool:
 
 
 def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
-               name: str = "curve", breaks=(), derivs: dict | None = None, seed=()):
+               name: str = "curve", breaks=(), derivs: dict | None = None, seed=(), best_effort: bool = False):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
     at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
     included), and with the end derivatives `derivs` if given (core.curve_fit.fit_cubic). Two points
     (or all coincident) give a straight segment, unless end derivatives are asked for.
-    Raises FitError when no cubic B-spline within tol_mm is found."""
+    Raises FitError when no cubic B-spline within tol_mm is found, unless best_effort (then the
+    closest fit the bounded refinement found: fit_cubic)."""
     prm = np.asarray(params, dtype=float)
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     fixed = dict(fixed or {})
@@ -92,19 +93,20 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
     fp = np.array([fixed[k] for k in ft], dtype=float)
     if collapsed(np.vstack([pts, fp])) or (len(pts) == 2 and len(ft) == 2 and not derivs):
         return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
-    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs, seed=seed)
+    knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs, seed=seed,
+                             best_effort=best_effort)
     return bspline(knots, poles)
 
 
 def fit_polyline(polyline: Polyline, tol_mm: float, start: FloatArray | None = None,
-                 end: FloatArray | None = None, name: str = "edge"):
+                 end: FloatArray | None = None, name: str = "edge", best_effort: bool = False):
     """fit_points for one polyline, with optional exact end points."""
     fixed = {}
     if start is not None:
         fixed[0.0] = np.asarray(start, dtype=float)
     if end is not None:
         fixed[1.0] = np.asarray(end, dtype=float)
-    return fit_points(polyline.params, polyline.points, tol_mm, fixed, name)
+    return fit_points(polyline.params, polyline.points, tol_mm, fixed, name, best_effort=best_effort)
 
 
 def unit_segment(curve, a: float, b: float):

@@ -9,6 +9,11 @@ Incremental (fit_edges(cache=)): a curve whose edges and nodes are all unchanged
 cache; of a curve a later stroke split or pulled, only the runs of changed edges are fitted again,
 joined C2 (C0 at a kink) to the kept pieces, their refinement seeded with the knots of the edge
 they replace. Each piece is keyed by the exact content it was fitted from (_edge_key).
+
+A curve the bounded knot refinement cannot bring within the tolerance (a tolerance below the
+points' round-off, a jump in a polyline) is kept as its closest fit (fit_cubic(best_effort=True)):
+the faces on it are then measured further from their Coons sub-patches than allowed, which the
+build's quality verdict reports, instead of the whole build failing on valid strokes.
 """
 from __future__ import annotations
 
@@ -106,7 +111,7 @@ def fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: di
     fixed[0.0], fixed[1.0] = fixed.pop(float(cum[0])), fixed.pop(float(cum[-1]))
     breaks = [float(cum[k]) for k in range(1, len(chain)) if kinked(*chain[k - 1], *chain[k])]
     curve = fit_points(np.concatenate(params), np.vstack(points), tol_mm, fixed, name=f"curve {curve_id}",
-                       breaks=breaks, derivs=derivs, seed=seed)
+                       breaks=breaks, derivs=derivs, seed=seed, best_effort=True)
     out = {}
     for k, (e, rev) in enumerate(chain):
         piece = unit_segment(curve, float(cum[k]), float(cum[k + 1]))
@@ -250,7 +255,8 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
                 piece = fit_curve(chain, nodes, tol_mm, cid, seed=_chain_seed(chain, before))
             else:
                 piece = {e.id: kept.get(e.id) or fit_polyline(e.polyline, tol_mm, start=nodes[e.node0],
-                                                               end=nodes[e.node1], name=f"edge {e.id} (curve {cid})")
+                                                               end=nodes[e.node1], name=f"edge {e.id} (curve {cid})",
+                                                               best_effort=True)
                          for e in group}
             fitted += 1
         fitted_curves[ckey] = {keys[eid]: c for eid, c in piece.items()}

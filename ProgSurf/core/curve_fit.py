@@ -177,9 +177,20 @@ def sample_to_sag(points_at, w: FloatArray, sag_mm: float | None,
     return w, pts
 
 
+MAX_KNOTS_PER_VERTEX = 2
+"""The knot refinement of fit_cubic stops at this many interior knots per polyline vertex, plus
+MAX_CORNER_KNOTS (and the C0 knots of its breaks): the sketches of the examples and the benchmark
+take at most 0.4 knots a vertex; a tolerance the points cannot meet (below their round-off, or a
+jump in the polyline) would otherwise double the knots every round, and the solve is cubic in them
+(a 1e-9 mm tolerance ran for minutes)."""
+MAX_CORNER_KNOTS = 64
+"""Knots allowed beyond MAX_KNOTS_PER_VERTEX: a sharp corner of a short polyline crowds about two
+knots per halving of its span until the curve hugs it (about 30 at 1e-4 of the span)."""
+
+
 def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: FloatArray, tol: float,
               name: str = "curve", max_rounds: int = 40, breaks=(), derivs: dict | None = None,
-              seed=()) -> tuple[FloatArray, FloatArray]:
+              seed=(), best_effort: bool = False) -> tuple[FloatArray, FloatArray]:
     """Cubic B-spline C through fixed_p at fixed_t and within tol of the piecewise-linear polyline
     (t, pts) everywhere it is sampled (params in [0, 1]): the Coons sub-patch is built on that
     polyline, so the curve must follow it between the vertices too, within tol plus the chord's
@@ -193,7 +204,12 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     seed   : interior knots to start from (e.g. those of an earlier fit of the same curve), so that
              refinement starts near where it will end.
 
-    Returns (full clamped knot vector, poles (n, 3)). Raises FitError if refinement does not reach tol.
+    best_effort : when the refinement stops short of tol (max_rounds, the knot cap
+             MAX_KNOTS_PER_VERTEX, or spans too short to split), return the fit on the last knots
+             instead of raising: the caller measures how far it lies (a face's fit deviation).
+
+    Returns (full clamped knot vector, poles (n, 3)). Raises FitError if refinement does not reach tol
+    (unless best_effort).
     """
     t = np.asarray(t, dtype=float)
     pts = np.asarray(pts, dtype=float)
@@ -208,6 +224,8 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         seed = seed[np.min(np.abs(seed[:, None] - interior[None, :]), axis=1) > 1e-9]
     interior = np.sort(np.concatenate([interior, seed]))
     sag = chord_sag(pts) if len(t) > 1 else np.zeros(1)
+    max_knots = MAX_KNOTS_PER_VERTEX * len(t) + MAX_CORNER_KNOTS + DEGREE * len(breaks)
+    last = None
     for _ in range(max_rounds):
         knots = np.concatenate([np.zeros(DEGREE + 1), interior, np.ones(DEGREE + 1)])
         x = _samples(t, interior)
@@ -225,6 +243,7 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         # each sample weighs by how closely it must be met: a chord point, allowed its sag, must
         # not pull the curve off the vertices (equal weights crowded knots: 43 poles for 15 points)
         w = tol / allow
+        last = (knots, a * w[:, None], c, data * w[:, None], lam, end_poles)
         for exact in (False, True):   # the fast solve finds the knots, least squares the result
             poles = _solve(a * w[:, None], c, data * w[:, None], fixed_p, lam, end_poles, exact)
             res = np.linalg.norm(a @ poles - data, axis=1)
@@ -242,8 +261,11 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
                                                 side="right") - 1, 0, len(bounds) - 2))
         new = 0.5 * (bounds[bad] + bounds[bad + 1])
         new = new[new - bounds[bad] > 1e-9]
-        if len(new) == 0:
+        if len(new) == 0 or len(interior) + len(new) > max_knots:
             break
         interior = np.sort(np.concatenate([interior, new]))
+    if best_effort and last is not None:
+        knots, a, c, data, lam, end_poles = last
+        return knots, _solve(a, c, data, fixed_p, lam, end_poles, True)
     raise FitError(f"{name}: no cubic B-spline within {tol:.3g} mm of its {len(t)}-point polyline after "
                    "knot refinement; raise --fit-tol or smooth the stroke")

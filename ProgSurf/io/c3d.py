@@ -205,6 +205,12 @@ def _load(path: Union[str, Path]) -> _Capture:
             n_frames = int(reader.frame_count)
             first = int(reader.first_frame)
             rate = float(reader.point_rate)
+        except _PARSE_ERRORS as exc:
+            raise StrokeFileError(f"{path}: unreadable C3D parameters ({exc})") from None
+        if not (np.isfinite(rate) and rate > 0):     # the c3d reader divides by it for every frame
+            raise StrokeFileError(f"{path}: POINT:RATE is {rate:g} frames per second, so its frames "
+                                  "cannot be read; write the capture rate into the file")
+        try:
             data_start = (int(reader.header.data_block) - 1) * _BLOCK
             frame_bytes = _frame_bytes(reader)
             labels = _labels(reader, n_points)

@@ -4,7 +4,8 @@ Format (read and written):
   - one point per line, ``x y z`` in millimetres, separated by spaces, tabs, commas or semicolons;
   - strokes separated by one or more blank lines, OR a 4th integer column naming the stroke
     (points of one stroke keep their file order; strokes are returned in order of first appearance);
-  - lines starting with ``#`` are comments; a first data line of column names (``x,y,z`` or
+  - lines starting with ``#`` are comments; a comment line after points ends their stroke, as a
+    blank line does (a "# stroke 2" line between strokes would otherwise join them); a first data line of column names (``x,y,z`` or
     ``x y z stroke`` ...) is recognised as a header and skipped.
 Numpy only.
 """
@@ -67,6 +68,9 @@ def read_point_list(path: str | os.PathLike) -> list[FloatArray]:
                 current = []
             continue
         if stripped.startswith("#"):
+            if current:        # a comment between two strokes separates them, blank line or not
+                strokes.append(current)
+                current = []
             continue
         tokens = [t for t in _SPLIT.split(stripped) if t]
         values = [_token_float(t) for t in tokens]

@@ -89,6 +89,22 @@ def test_fit_that_cannot_reach_the_tolerance_raises_fit_error():
         fit_cubic(t, pts, np.array([0.0, 1.0]), pts[[0, -1]], tol=1e-4, max_rounds=8)
 
 
+def test_a_fit_below_the_points_round_off_stops_at_the_knot_cap_and_gives_its_closest_curve():
+    """best_effort: a tolerance no curve can meet (1e-13 of a 100 mm curve: below its round-off)
+    returns the fit on the last knots, bounded by MAX_KNOTS_PER_VERTEX, through the end nodes."""
+    from ProgSurf.core.curve_fit import MAX_CORNER_KNOTS, MAX_KNOTS_PER_VERTEX
+
+    t = np.linspace(0.0, 1.0, 30)
+    pts = np.stack([100 * t, 10 * np.sin(3 * np.pi * t), np.zeros_like(t)], axis=1)
+    with pytest.raises(FitError):
+        fit_cubic(t, pts, np.array([0.0, 1.0]), pts[[0, -1]], tol=1e-11)
+    knots, poles = fit_cubic(t, pts, np.array([0.0, 1.0]), pts[[0, -1]], tol=1e-11, best_effort=True)
+    assert len(knots) - 8 <= MAX_KNOTS_PER_VERTEX * len(t) + MAX_CORNER_KNOTS
+    ends = basis_matrix(knots, np.array([0.0, 1.0])) @ poles
+    assert np.abs(ends - pts[[0, -1]]).max() < 1e-9
+    assert np.linalg.norm(basis_matrix(knots, t) @ poles - pts, axis=1).max() < 1e-6 * 100   # 1e-6 of its size
+
+
 def test_join_side_is_smooth_where_pieces_of_one_curve_meet():
     whole = curves.fit_polyline(_poly(SIDES["bottom"]), 0.002)
     a = curves.unit_segment(whole, 0.0, 0.4)
