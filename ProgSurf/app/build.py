@@ -128,7 +128,7 @@ class Analysis:
     def verdict(self, extra: Sequence[str] = ()) -> str:
         """One line: "quality: ok" or "quality: WARNING ..." naming the first problems (and `extra`
         ones the caller measured, e.g. the skin's deviation)."""
-        problems = self.problems + list(extra)
+        problems = list(self.problems) + list(extra)
         if not problems:
             return "quality: ok (no fold; every face within the fit tolerance)"
         more = f" (and {len(problems) - 2} more)" if len(problems) > 2 else ""
