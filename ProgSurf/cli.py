@@ -133,9 +133,10 @@ def _parser() -> argparse.ArgumentParser:
                    help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_LENGTH_MM:g} mm)")
     b.add_argument("--smooth", type=_whole, default=0, metavar="N",
                    help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
-    b.add_argument("--surfaces", choices=["auto", "all", "one"], default="auto",
-                   help="all: every surface of the stroke network, one shell per part; one: one surface; "
-                        "auto: one when one loop encloses the other strokes, else all (ProgSurf.object_cli)")
+    b.add_argument("--surfaces", choices=["auto", "all", "one"], default="one",
+                   help="one (default): one surface; all: every surface of the stroke network, one shell "
+                        "per part (first version: see the README); auto: one when one loop encloses the "
+                        "other strokes, else all (ProgSurf.object_cli)")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
     return p
 

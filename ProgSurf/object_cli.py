@@ -1,7 +1,7 @@
 """`build --surfaces all|one|auto` (issue 18): the whole-object branch of the command line.
 
 `all` builds every surface of the stroke network (app.objects) into one shell per connected
-part; `one` is the single progressive surface (cli.run_build as before); `auto` (the default)
+part; `one` (the default) is the single progressive surface (cli.run_build as before); `auto`
 builds one surface when one loop encloses the other strokes (core.objects.choose_mode: one open
 sheet of curves, or no loop at all) and every surface otherwise. --boundary-count names one
 surface's boundary, so with it `auto` is `one`.
