@@ -68,15 +68,14 @@ class Source:
 
 
 def _tigl_boundary(xyz: Path) -> Optional[list]:
-    meta = xyz.parent / (xyz.name.split(".")[0] + ".json")
-    if not meta.is_file():
-        return None
-    roles = [s["role"] for s in json.loads(meta.read_text())["strokes"]]
-    profiles = [i for i, r in enumerate(roles) if r.startswith("profiles")]
-    guides = [i for i, r in enumerate(roles) if r.startswith("guides")]
-    if not profiles or not guides:
-        return None
-    return [profiles[0], guides[-1], profiles[-1], guides[0]]
+    """The TiGL network's boundary as examples/README.md names it (examples/real_data_trial.py's
+    tigl_boundary, loaded from its file: examples/ is no package)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("real_data_trial", ROOT / "examples" / "real_data_trial.py")
+    trial = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(trial)
+    return trial.tigl_boundary(xyz)
 
 
 def load_sources(real: bool = True, real_max_points: int = 1500) -> list:
