@@ -88,10 +88,7 @@ def test_a_turned_over_region_and_a_creased_seam_are_found():
     assert shared and max(seam_angle_deg(net, e, tuple(net.edge_regions()[e])) for e in shared) < 1.0
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2, pytest.param(3, marks=pytest.mark.xfail(strict=True, reason=(
-    "issue 17: with the footpoint facets split four ways (direction invariance), one random stroke "
-    "of seed 3 is accepted after the fold repair splits 2 regions, and leaves region 10 turned over "
-    "(167 deg): the repair's own check misses a region find_folds sees; to be fixed in fold_repair"))), 4, 5])
+@pytest.mark.parametrize("seed", [0, 1, 2, 3, 4, 5])
 def test_no_accepted_stroke_folds_the_network(seed):
     """Random strokes, some lifted off the surface, over a curved panel: whatever is accepted leaves
     no fold among the regions it made (a rejected stroke leaves the network as it was)."""
