@@ -28,7 +28,7 @@ import numpy.typing as npt
 from .fairing import fair_stroke, stroke_tolerance
 from .closing import ClosedSide, close_loop, project
 from .errors import DegenerateSketchError, InvalidOptionError, OpenBoundaryError
-from .strokes import (auto_filter_threshold, chord_length, corner_angle_deg, filter_stroke,
+from .strokes import (APEX_TIE_DEG, auto_filter_threshold, chord_length, corner_angle_deg, filter_stroke,
                       resample_arclength, round_points, sketch_diagonal, validate_stroke)
 from .types import FloatArray, Tolerances
 
@@ -227,12 +227,12 @@ def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None)
     if len(pts) < 3:
         raise OpenBoundaryError(f"a boundary of {len(pts)} side(s) cannot bound a surface; it needs 3 or more")
     if len(pts) == 3:
-        # the apex is the corner after sides[1]; turn the loop so that it is the sharpest corner,
-        # where the Coons triangle collapses: a choice by geometry alone, so that the surface is
-        # the same whichever stroke the loop starts with and whichever way it runs (issue 17)
+        # the apex is the corner after sides[1]; turn the loop so that it is the sharpest corner
+        # (a clear APEX_TIE_DEG sharper than that one): the Coons triangle collapses there
         angles = [corner_angle_deg(pts[i][::-1], pts[(i + 1) % 3]) for i in range(3)]
         best = int(np.argmin(angles))
-        pts = [pts[(best - 1 + k) % 3] for k in range(3)]
+        if angles[best] < angles[1] - APEX_TIE_DEG:
+            pts = [pts[(best - 1 + k) % 3] for k in range(3)]
         apex = pts[1][-1]
         return [pts[0], pts[1], np.stack([apex, apex]), pts[2]]
     if plane is None:

@@ -85,9 +85,8 @@ def cumulative_length(points: npt.ArrayLike) -> FloatArray:
 
 
 APEX_TIE_DEG = 10.0
-"""A 3-sided region collapses at its sharpest 3D corner when that is this much sharper than the
-corner opposite its longest pre-image side, else at the latter (a 3-sided boundary always
-collapses at its sharpest corner: core.boundary.merge_to_four)."""
+"""A 3-sided region (and a 3-sided boundary) collapses at its sharpest 3D corner when that is
+this much sharper than the corner the pre-image or the loop order would pick, else at the latter."""
 
 
 def corner_angle_deg(a: npt.ArrayLike, b: npt.ArrayLike, reach: float = 0.1) -> float:
