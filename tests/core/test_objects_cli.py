@@ -38,7 +38,8 @@ def test_cube_edges_build_one_closed_shell_through_the_command(tmp_path):
     src = tmp_path / "cube.xyz"
     write_cube(src)
     step, report_path = tmp_path / "cube.step", tmp_path / "cube.json"
-    proc = run("build", str(src), "-o", str(step), "--report", str(report_path))   # auto: a closed shell -> all
+    proc = run("build", str(src), "-o", str(step), "--report", str(report_path),
+               "--surfaces", "auto")                      # auto: a closed shell -> all
     assert proc.returncode == 0, proc.stderr + proc.stdout
     report = json.loads(report_path.read_text())
     assert report["mode"] == "all" and len(report["surfaces"]) == 6
