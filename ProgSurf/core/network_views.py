@@ -91,10 +91,12 @@ class ViewCache:
     locator      : (regions key, half-planes of every region) for locate_many
     joined       : (region ids, facet parts, Facets) for facets()
     boxes        : (facet parts, (R, 2, 3) bounding boxes) for footpoint()
+    apexes       : region id -> (region record, edge records along its cycle, apex index) of a
+                   3-sided region (NetworkViews._triangle_apex)
     """
 
     __slots__ = ("edges_now", "edge_views", "segments", "region_views", "polygons", "locator",
-                 "joined", "boxes")
+                 "joined", "boxes", "apexes")
 
     def __init__(self) -> None:
         self.edges_now: Optional[dict] = None
@@ -105,6 +107,7 @@ class ViewCache:
         self.locator: Optional[tuple] = None
         self.joined: Optional[tuple] = None
         self.boxes: Optional[tuple] = None
+        self.apexes: dict = {}
 
     def copy(self) -> "ViewCache":
         """A cache for a clone: the per-id tables copied (each network adds its own entries), the
@@ -112,6 +115,7 @@ class ViewCache:
         other = ViewCache()
         other.edge_views, other.segments = dict(self.edge_views), dict(self.segments)
         other.region_views, other.polygons = dict(self.region_views), dict(self.polygons)
+        other.apexes = dict(self.apexes)
         other.locator, other.joined, other.boxes = self.locator, self.joined, self.boxes
         return other
 
@@ -170,12 +174,12 @@ class NetworkViews:
         turns over there (a sliver). Near ties (within APEX_TIE_DEG) keep the pre-image rule:
         the apex opposite the longest pre-image side."""
         reg = self._regions[rid]
-        cache = self.__dict__.setdefault("_apex_cache", {})
+        cache = self._view_cache.apexes = pruned(self._view_cache.apexes, self._regions)
         index = self._edge_index
         cyc = reg.cycle
         edges = tuple(self._edges[index[(a, b)][0]] for a, b in zip(cyc, cyc[1:] + cyc[:1]))
         hit = cache.get(rid)
-        if hit is not None and hit[0] is reg and all(x is y for x, y in zip(hit[1], edges)) and len(hit[1]) == len(edges):
+        if hit is not None and hit[0] is reg and len(hit[1]) == len(edges) and all(x is y for x, y in zip(hit[1], edges)):
             return hit[2]
         uv = np.array([self._nodes[n].uv for n in k])
         lengths = [np.linalg.norm(uv[(i + 1) % 3] - uv[i]) for i in range(3)]
