@@ -33,7 +33,7 @@ from .strokes import (APEX_TIE_DEG, auto_filter_threshold, chord_length, corner_
 from .types import FloatArray, Tolerances
 
 __all__ = ["Plane", "BoundaryLoop", "best_fit_plane", "classify_strokes", "close_boundary",
-           "merge_to_four", "equalise", "resample_arclength", "make_boundary"]
+           "merge_to_four", "triangle_apex", "turn_to_apex", "apex_holds", "equalise", "resample_arclength", "make_boundary"]
 
 N_RAYS = 720
 """Rays cast from the centroid in `classify_strokes` (one every half degree)."""
@@ -214,31 +214,81 @@ def _join(parts: Sequence[FloatArray]) -> FloatArray:
     return np.concatenate(out)
 
 
-def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None) -> list[FloatArray]:
+APEX_NEAR = 0.05
+"""A stroke end within this fraction of a 3-sided loop's longest side from a corner, or aimed at
+it that closely, reaches the corner (triangle_apex)."""
+APEX_FAR = 0.4
+"""A stroke end this fraction of the longest side or more from a corner leaves it alone."""
+
+
+def triangle_apex(sides: Sequence[npt.ArrayLike], ends: Optional[npt.ArrayLike] = None) -> int:
+    """The corner a 3-sided loop collapses at (Fig. 4), as the index i of the side it ends
+    (sides in loop order, side i ending at corner i where side i+1 starts).
+
+    By geometry alone, so that neither the order nor the direction in which the sides were drawn
+    changes the surface (issue 17). The candidates are the corners within APEX_TIE_DEG of the
+    sharpest: a Coons triangle collapsed anywhere else squeezes a sharp corner between a regular
+    bottom and side, and turns over there. Among them, the fewest near misses, then the longest
+    opposite side (by chord). `ends` are the interior strokes' ends, (k, 2, 3): each end point and
+    a point a little inside its stroke. A near miss is an end that heads for the corner and stops
+    near it (closer than APEX_FAR of the longest side) without reaching it: neither within
+    APEX_NEAR of it nor aimed at it that closely. Extended to the loop, such a stroke cuts a sliver off the collapsed
+    corner, where the patch's parametrisation degenerates, and folds it (on `three_sided`, a
+    stroke along the bottom that ends 0.24 of a side from a lower corner); a stroke that runs
+    into the apex is an isoparametric line of the triangle and does no harm."""
+    pts = [np.asarray(s, dtype=float).reshape(-1, 3) for s in sides]
+    angles = np.array([corner_angle_deg(pts[i][::-1], pts[(i + 1) % 3]) for i in range(3)])
+    chords = np.array([float(np.linalg.norm(p[-1] - p[0])) for p in pts])
+    opposite = chords[[(i + 2) % 3 for i in range(3)]]        # corner i joins sides i and i+1
+    candidates = [i for i in range(3) if angles[i] <= angles.min() + APEX_TIE_DEG]
+    if len(candidates) == 1:
+        return candidates[0]
+    size = float(chords.max())
+    pairs = np.asarray(ends if ends is not None else np.zeros((0, 2, 3)), dtype=float).reshape(-1, 2, 3)
+
+    def near_misses(i: int) -> int:
+        corner = pts[i][-1]
+        to_corner = corner - pairs[:, 0]
+        dist = np.linalg.norm(to_corner, axis=1)
+        out = pairs[:, 0] - pairs[:, 1]
+        out /= np.maximum(np.linalg.norm(out, axis=1), 1e-300)[:, None]
+        along = np.einsum("ij,ij->i", to_corner, out)
+        miss = np.linalg.norm(to_corner - along[:, None] * out, axis=1)
+        return int(np.sum((along > 0) & (dist < APEX_FAR * size) & (dist > APEX_NEAR * size)
+                          & (miss > APEX_NEAR * size)))
+
+    # an exact tie (a triangle drawn by a program) keeps the loop's own corner after sides[1]
+    return min(candidates, key=lambda i: (near_misses(i), -opposite[i], i != 1))
+
+
+def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None,
+                  ends: Optional[npt.ArrayLike] = None, apex: Optional[int] = None) -> list[FloatArray]:
     """N sides of a closed loop (in loop order, each ending where the next starts) to exactly four.
 
     More than four: Qin & Wright 2006, section 2.1: repeatedly merge the two adjacent sides whose
     chord directions (in the projection plane) differ least; ties go to the pair holding the curve
     with the shortest total chord length.  Three sides: a degenerate side (one point repeated) is
     inserted after sides[1], so that the result reads bottom, right, top (degenerate), left-reversed
-    with c3 == c2 (Fig. 4: F(u,1) = F1).  Four: returned as copies.  Fewer than three: OpenBoundaryError.
+    with c3 == c2 (Fig. 4: F(u,1) = F1); the loop is first turned so that the corner after
+    sides[1] is `apex`, by default `triangle_apex(sides, ends)` (callers that keep per-side data
+    choose it and turn that data the same way: `turn_to_apex`).  Four: returned as copies.  Fewer than three: OpenBoundaryError.
     """
     pts = [np.array(s, dtype=float).reshape(-1, 3) for s in sides]
     if len(pts) < 3:
         raise OpenBoundaryError(f"a boundary of {len(pts)} side(s) cannot bound a surface; it needs 3 or more")
     if len(pts) == 3:
-        # the apex is the corner after sides[1]; turn the loop so that it is the sharpest corner
-        # (a clear APEX_TIE_DEG sharper than that one): the Coons triangle collapses there
-        angles = [corner_angle_deg(pts[i][::-1], pts[(i + 1) % 3]) for i in range(3)]
-        best = int(np.argmin(angles))
-        if angles[best] < angles[1] - APEX_TIE_DEG:
-            pts = [pts[(best - 1 + k) % 3] for k in range(3)]
+        pts = turn_to_apex(pts, triangle_apex(pts, ends) if apex is None else apex)
         apex = pts[1][-1]
         return [pts[0], pts[1], np.stack([apex, apex]), pts[2]]
     if plane is None:
         plane = best_fit_plane(np.concatenate(pts))
     groups, _ = _merge_groups(pts, plane)
     return [_join([pts[i] for i in g]) for g in groups]
+
+
+def turn_to_apex(items: Sequence, apex: int) -> list:
+    """The three per-side items of a 3-sided loop turned so that corner `apex` comes after item 1."""
+    return [items[(apex - 1 + k) % 3] for k in range(3)]
 
 
 def equalise(a: npt.ArrayLike, b: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -444,9 +494,11 @@ def make_boundary(
         pts = [_join([loop[i].points for i in g]) for g in groups]
         sources = [tuple(sorted({j for i in g for j in loop[i].source})) for g in groups]
     if len(pts) == 3:
+        apex = triangle_apex(pts, _stroke_ends(arrays, interior))
+        pts, sources = turn_to_apex(pts, apex), turn_to_apex(sources, apex)
         notes.append(f"three-sided boundary: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         sources.insert(2, ())
-    s0, s1, s2, s3 = merge_to_four(pts, plane)
+    s0, s1, s2, s3 = merge_to_four(pts, plane, apex=1)
     even = equalise_uniform if faired else equalise
     bottom, top = even(s0, s2[::-1])
     right, left = even(s1, s3[::-1])
@@ -473,13 +525,39 @@ def _loop_normal(loop3d: FloatArray, plane: Plane) -> float:
     return float(0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
-def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int]) -> BoundaryLoop:
+def apex_holds(loop: "BoundaryLoop", ends: npt.ArrayLike) -> bool:
+    """Whether a loop made earlier still collapses where `triangle_apex` would collapse it now,
+    with the ends (`_stroke_ends`) of the interior strokes there are now (always, for four sides): a loop
+    kept from an earlier build (the progressive path) must be the loop a build from scratch makes."""
+    if not np.allclose(loop.top, loop.top[0]):
+        return True
+    return triangle_apex([loop.bottom, loop.right, loop.left[::-1]], ends) == 1
+
+
+def _stroke_ends(strokes: Sequence[npt.ArrayLike], which: Sequence[int]) -> FloatArray:
+    """The ends of each stroke in `which`, for triangle_apex: (2k, 2, 3), each end point with the
+    stroke's point a tenth of its length inside."""
+    out = []
+    for i in which:
+        a = np.asarray(strokes[i], dtype=float).reshape(-1, 3)
+        if len(a) < 2:
+            continue
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(a, axis=0), axis=1))])
+        k0 = min(int(np.searchsorted(s, 0.1 * s[-1])), len(a) - 1)
+        k1 = max(int(np.searchsorted(s, 0.9 * s[-1])) - 1, 0)
+        out += [(a[0], a[k0]), (a[-1], a[k1])]
+    return np.array(out, dtype=float).reshape(-1, 2, 3)
+
+
+def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
+                        inside: Sequence[npt.ArrayLike] = ()) -> BoundaryLoop:
     """The BoundaryLoop of a loop that is closed already (issue 18: a cycle of the stroke network,
     whose sides meet at its nodes exactly): steps 4-5 of the module docstring without the closing
     of step 3, which would cut or extend sides that two surfaces share.
 
     sides   : (n_k, 3) each, in loop order, each starting where the previous one ends
     sources : the stroke (or network edge) index of each side, for BoundaryLoop.source
+    inside  : the strokes inside the loop (their ends help choose a triangle's apex: triangle_apex)
     Sides are faired, densely sampled polylines: opposite sides are resampled evenly in arc length
     (equalise_uniform)."""
     pts = [np.array(s, dtype=float).reshape(-1, 3) for s in sides]
@@ -493,9 +571,11 @@ def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int]) 
         pts = [_join([pts[i] for i in g]) for g in groups]
     srcs = [tuple(sorted({int(sources[i]) for i in g})) for g in groups]
     if len(pts) == 3:
+        apex = triangle_apex(pts, _stroke_ends(inside, range(len(inside))))
+        pts, srcs = turn_to_apex(pts, apex), turn_to_apex(srcs, apex)
         notes.append(f"three-sided loop: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         srcs.insert(2, ())
-    s0, s1, s2, s3 = merge_to_four(pts, plane)
+    s0, s1, s2, s3 = merge_to_four(pts, plane, apex=1)
     bottom, top = equalise_uniform(s0, s2[::-1])
     right, left = equalise_uniform(s1, s3[::-1])
     area_normal = _loop_normal(np.concatenate([s0, s1[1:], s2[1:], s3[1:-1]]), plane)

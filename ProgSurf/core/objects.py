@@ -239,7 +239,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
         sides = _split_few_sides(cycle.polylines_from(polylines))
         inside = interior.get(k, [])
         try:
-            loop = boundary_from_sides(sides, list(range(len(sides))))
+            loop = boundary_from_sides(sides, list(range(len(sides))), [polylines[e] for e in inside])
             result = build_network(sides + [polylines[e] for e in inside], boundary=list(range(len(sides))),
                                    tol=inner_tol, loop=loop)
         except ProgSurfError as exc:

@@ -9,7 +9,7 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-from .boundary import BoundaryLoop, boundary_indices, make_boundary
+from .boundary import BoundaryLoop, _stroke_ends, apex_holds, boundary_indices, make_boundary
 from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
@@ -116,6 +116,13 @@ def _as_drawn(rec: StrokeRecord) -> StrokeRecord:
                    ends=tuple(reversed(rec.ends)), end_offsets_mm=tuple(reversed(rec.end_offsets_mm)))
 
 
+def _ends_of_interior(previous: BuildResult, arrays: list):
+    """The ends (boundary._stroke_ends) of every stroke that is not one of `previous`'s boundary
+    strokes."""
+    chosen = set(range(len(previous.strokes))) - set(previous.interior)
+    return _stroke_ends(arrays, [i for i in range(len(arrays)) if i not in chosen])
+
+
 def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop, interior: list,
                tol: Tolerances, falloff: str) -> bool:
     """True when `previous` was built from the first strokes of `arrays`, unchanged, with the same
@@ -166,7 +173,8 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
     pool = ("named" if candidates is None else "candidates", tuple(sorted(named))) if named is not None else ()
     if (previous is not None and pool and previous.pool == pool and previous.tol == tol
             and all(i < len(previous.strokes) and i < len(arrays) and np.array_equal(previous.strokes[i], arrays[i])
-                    for i in pool[1])):
+                    for i in pool[1])
+            and apex_holds(previous.boundary, _ends_of_interior(previous, arrays))):
         # the same named strokes and tolerances make the same loop: keep it (fairing and closing
         # the boundary is most of the work when one interior stroke is added)
         chosen = set(range(len(previous.strokes))) - set(previous.interior)

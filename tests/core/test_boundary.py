@@ -295,3 +295,40 @@ def test_corners_join_the_strokes_without_a_hook():
         n = np.linalg.norm(d, axis=1)
         cos = np.einsum("ij,ij->i", d[:-1], d[1:]) / (n[:-1] * n[1:])
         assert np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 12.0
+
+
+def test_a_three_sided_loop_collapses_at_the_same_corner_however_its_sides_were_drawn():
+    """issue 17: the apex of three_sided followed the order of its boundary strokes when its corners
+    were within APEX_TIE_DEG of each other (reordered, the fuzz built 3 or 1 faces instead of 4)."""
+    import itertools
+
+    strokes = read_strokes(EXAMPLES / "three_sided.xyz")
+    apexes = []
+    for order in itertools.permutations(range(3)):
+        for flip in itertools.product((False, True), repeat=3):
+            drawn = [strokes[i][::-1] if f else strokes[i] for i, f in zip(order, flip)] + [strokes[3]]
+            loop, interior = make_boundary(drawn, 3)
+            assert interior == [3] and loop.triangle
+            apexes.append(loop.right[-1])
+    spread = np.ptp(np.array(apexes), axis=0).max()
+    assert spread < 1e-6, f"the apex moved by {spread:.3g} mm with the order or direction of the sides"
+    # the corner it collapses at is not the one the stroke ends near without reaching it
+    ends = np.array([strokes[3][0], strokes[3][-1]])
+    assert np.linalg.norm(ends - apexes[0], axis=1).min() > 0.4 * np.ptp(np.concatenate(strokes[:3]), axis=0).max()
+
+
+def test_triangle_apex_keeps_away_from_a_stroke_that_stops_short_of_a_corner():
+    from ProgSurf.core.boundary import triangle_apex
+
+    a, b, c = np.array([0.0, 0, 0]), np.array([100.0, 0, 0]), np.array([50.0, 86.6, 0])
+    line = lambda p, q: np.linspace(p, q, 20)
+    sides = [line(a, b), line(b, c), line(c, a)]           # equilateral: every corner is a candidate
+    # a stroke along the bottom whose left end stops 20 mm short of corner a, 9 mm above its side
+    stroke = line(np.array([80.0, 12, 0]), np.array([20.0, 9, 0]))
+    ends = np.array([[stroke[-1], stroke[-3]], [stroke[0], stroke[2]]])
+    near_a = triangle_apex(sides, ends)
+    assert not np.allclose(sides[near_a][-1], a)
+    # a stroke that runs into corner a (a meridian) leaves a free to be the apex
+    meridian = line(np.array([70.0, 30, 0]), a + np.array([3.0, 1, 0]))
+    both = np.array([[meridian[-1], meridian[-3]], [meridian[0], meridian[2]]])
+    assert triangle_apex(sides, both) == triangle_apex(sides)
