@@ -227,9 +227,9 @@ def make_surface_network(strokes: Optional[Sequence] = None, doc=None, name: str
     ``strokes`` default to every stroke of the document. Tolerances default to the preferences
     (ProgSurf.app.params); 0 or None = automatic. See ProgSurf.app.network_object.
     """
-    doc = _doc(doc) if strokes is None or not list(strokes) else list(strokes)[0].Document
-    chosen = _check_strokes([o for o in doc.Objects if is_stroke(o)] if strokes is None else strokes,
-                            "network")
+    given = None if strokes is None else list(strokes)
+    doc = given[0].Document if given else _doc(doc)
+    chosen = _check_strokes([o for o in doc.Objects if is_stroke(o)] if given is None else given, "network")
     if not chosen:
         raise ProgSurfError(f"document {doc.Label!r} has no strokes to make a network of; "
                             "import strokes or make them from sketches first")
