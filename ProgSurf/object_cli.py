@@ -33,19 +33,27 @@ def wants_object(args, strokes: list, tol) -> Optional[tuple]:
     return network
 
 
-def _write_fcstd(path: str, strokes: list, shape) -> None:
-    """A document with the strokes (ProgSurf.app stroke objects) and the object's shell as a
-    Part::Feature (one parametric object for the whole network is still to come)."""
+def _write_fcstd(path: str, strokes: list, outcome, continuity: str) -> None:
+    """A document with the strokes (ProgSurf.app stroke objects) and one SurfaceNetwork object on
+    them (recomputed by the app layer with the build's resolved tolerances and continuity), plus the
+    exported shell as a plain Part::Feature."""
     import FreeCAD
 
     from .app import make
 
     doc = FreeCAD.newDocument("ProgSurfObject")
     try:
-        for i, p in enumerate(strokes):
-            make.make_stroke_from_points(p, name=f"Stroke{i:03d}", doc=doc, recompute=False)
-        doc.addObject("Part::Feature", "ObjectShell").Shape = shape
+        objs = [make.make_stroke_from_points(p, name=f"Stroke{i:03d}", doc=doc, recompute=False)
+                for i, p in enumerate(strokes)]
+        tol = outcome.build.tol
+        network = make.make_surface_network(objs, filter_mm=tol.filter_mm, snap_mm=tol.snap_mm,
+                                            fit_mm=tol.fit_mm, recompute=False)
+        network.Continuity = continuity
+        doc.addObject("Part::Feature", "ExportedShell").Shape = outcome.shape
         doc.recompute()
+        if not network.isValid() or network.LastError:
+            raise ProgSurfError(f"the document's network object did not recompute: {network.State} "
+                                f"{network.LastError}")
         doc.saveAs(os.path.abspath(path))
     finally:
         FreeCAD.closeDocument(doc.Name)
@@ -77,7 +85,7 @@ def run_object_build(args, strokes: list, tol, network: tuple, timings: dict, ou
                          f"{sum(used)}/{len(used)} strokes")
         outputs["png"] = args.png
     if args.fcstd:
-        _write_fcstd(args.fcstd, strokes, shape)
+        _write_fcstd(args.fcstd, strokes, outcome, args.continuity)
         outputs["fcstd"] = args.fcstd
     report = object_report(outcome, inputs=args.inputs, outputs=outputs, timings_s=timings)
     if args.report:

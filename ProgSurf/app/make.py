@@ -4,6 +4,7 @@
     strokes = ps.make_strokes_from_file("examples/clean4.xyz")
     surface = ps.make_surface(boundary=strokes[:4], interior=strokes[4:])
     ps.add_interior(surface, [ps.make_stroke_from_sketch(sketch)])
+    network = ps.make_surface_network(strokes)      # every surface the strokes' loops bound
 
 When the GUI is up, new objects get their view providers through VIEW_PROVIDER_HOOK.
 Every function recomputes the document unless ``recompute=False``; none opens an undo
@@ -20,6 +21,7 @@ from ProgSurf import optional
 from ProgSurf.core.errors import InvalidStrokeError, MissingPackageError, ProgSurfError
 
 from . import extract
+from .network_object import NetworkProxy, is_network
 from .params import default_tolerances
 from .stroke_object import StrokeProxy, is_stroke
 from .surface_object import SurfaceProxy, is_surface
@@ -32,7 +34,7 @@ def _doc(doc=None):
 
 
 VIEW_PROVIDER_HOOK: Optional[Callable] = None
-"""Set by ProgSurf.gui when the GUI is up: ``hook(view_object, "stroke" | "surface")`` gives a
+"""Set by ProgSurf.gui when the GUI is up: ``hook(view_object, "stroke" | "surface" | "network")`` gives a
 new object its view provider. The document layer never imports the GUI layer itself."""
 
 
@@ -146,7 +148,7 @@ def make_strokes_from_selection(selection: Iterable, recompute: bool = True) -> 
     """
     strokes, doc = [], None
     for obj, subnames in selection:
-        if is_stroke(obj) or is_surface(obj):
+        if is_stroke(obj) or is_surface(obj) or is_network(obj):
             continue
         edges = [s for s in subnames if s.startswith("Edge")]
         if obj.isDerivedFrom("Sketcher::SketchObject") and not edges:
@@ -214,3 +216,30 @@ def add_interior(surface, strokes: Sequence, recompute: bool = True):
     surface.Interior = list(surface.Interior) + new
     _finish(surface.Document, recompute)
     return surface
+
+
+def make_surface_network(strokes: Optional[Sequence] = None, doc=None, name: str = "SurfaceNetwork",
+                         filter_mm: Optional[float] = None, snap_mm: Optional[float] = None,
+                         fit_mm: Optional[float] = None, recompute: bool = True):
+    """One parametric object for the whole stroke network (issue 18): every loop of curves the
+    ``strokes`` make becomes a surface, sewn into one shell per connected part.
+
+    ``strokes`` default to every stroke of the document. Tolerances default to the preferences
+    (ProgSurf.app.params); 0 or None = automatic. See ProgSurf.app.network_object.
+    """
+    given = None if strokes is None else list(strokes)
+    doc = given[0].Document if given else _doc(doc)
+    chosen = _check_strokes([o for o in doc.Objects if is_stroke(o)] if given is None else given, "network")
+    if not chosen:
+        raise ProgSurfError(f"document {doc.Label!r} has no strokes to make a network of; "
+                            "import strokes or make them from sketches first")
+    obj = doc.addObject("Part::FeaturePython", name)
+    NetworkProxy(obj)
+    defaults = default_tolerances()
+    obj.Strokes = chosen
+    obj.FilterThreshold = float(defaults.filter_mm if filter_mm is None else filter_mm)
+    obj.SnapTolerance = float(defaults.snap_mm if snap_mm is None else snap_mm)
+    obj.FitTolerance = float(defaults.fit_mm if fit_mm is None else fit_mm)
+    _attach_view(obj, "network")
+    _finish(doc, recompute)
+    return obj

@@ -10,6 +10,7 @@ import FreeCAD
 import FreeCADGui
 
 from ProgSurf.app import make
+from ProgSurf.app.network_object import is_network
 from ProgSurf.app.stroke_object import is_stroke
 from ProgSurf.app.surface_object import is_surface
 from ProgSurf.core.errors import ProgSurfError
@@ -95,7 +96,7 @@ class StrokesFromSelection(_Command):
            "wires, Draft B-splines or edges")
 
     def IsActive(self) -> bool:
-        return any(not is_stroke(o) and not is_surface(o) for o, _ in selected())
+        return any(not is_stroke(o) and not is_surface(o) and not is_network(o) for o, _ in selected())
 
     def Activated(self) -> None:
         doc = selected()[0][0].Document
@@ -120,6 +121,46 @@ class CreateSurface(_Command):
         task_panel.create_surface(selected_strokes())
 
 
+class CreateSurfaceNetwork(_Command):
+    name, icon_name = "ProgSurf_SurfaceNetwork", "ProgSurf_SurfaceNetwork"
+    menu = "Surface network (every loop of strokes)"
+    tip = ("One parametric object for the whole stroke network: every loop of the selected strokes "
+           "(or of all strokes) becomes a surface, sewn into shells; its panel shows which strokes "
+           "bound which surface and why a stroke is unused")
+
+    def IsActive(self) -> bool:
+        doc = FreeCAD.ActiveDocument
+        return bool(doc) and any(is_stroke(o) for o in doc.Objects) and not FreeCADGui.Control.activeDialog()
+
+    def Activated(self) -> None:
+        create_network(FreeCAD.ActiveDocument, selected_strokes())
+
+
+def create_network(doc, strokes: list):
+    """What the Surface network command does (also called by tests): a network of ``strokes`` (all
+    strokes of ``doc`` when none) in one undo step, then its panel; a network that could not be
+    built at all is not kept, and the user is told why."""
+    from . import network_panel
+
+    name = "Create surface network"
+    doc.openTransaction(name)
+    try:
+        net = make.make_surface_network(strokes or None, doc=doc)
+    except ProgSurfError as exc:
+        doc.abortTransaction()
+        tell(name, str(exc))
+        return None
+    if net.Shape.isNull():
+        reason = net.LastError
+        doc.abortTransaction()              # the strokes never changed
+        doc.recompute()
+        tell(name, reason)
+        return None
+    doc.commitTransaction()
+    network_panel.show(net)
+    return net
+
+
 class AddInterior(_Command):
     name, icon_name = "ProgSurf_AddInterior", "ProgSurf_AddInterior"
     menu = "Add interior stroke(s)"
@@ -137,15 +178,23 @@ class AddInterior(_Command):
 class Export(_Command):
     name, icon_name = "ProgSurf_Export", "ProgSurf_Export"
     menu = "Export STEP/IGES..."
-    tip = "Export the progressive surface as a STEP (AP214) or IGES file"
+    tip = "Export the progressive surface (or the selected surface network) as a STEP (AP214) or IGES file"
 
     def IsActive(self) -> bool:
-        return target_surface() is not None
+        return export_target() is not None
 
     def Activated(self) -> None:
         path = ask_path("save", "Export surface", EXPORT_FILTER)
         if path:
-            export_surface(target_surface(), path)
+            export_surface(export_target(), path)
+
+
+def export_target():
+    """The selected surface network, else target_surface()."""
+    for obj, _ in selected():
+        if is_network(obj) and not obj.Shape.isNull():
+            return obj
+    return target_surface()
 
 
 def export_surface(surface, path: str) -> bool:
@@ -176,7 +225,8 @@ class Analyse(_Command):
         analysis_view.show(target_surface())
 
 
-COMMANDS = (ImportStrokes, StrokesFromSelection, CreateSurface, AddInterior, Export, Analyse)
+COMMANDS = (ImportStrokes, StrokesFromSelection, CreateSurface, CreateSurfaceNetwork, AddInterior, Export,
+            Analyse)
 
 
 def register() -> list[str]:

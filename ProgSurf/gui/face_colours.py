@@ -46,3 +46,22 @@ def colour_faces(vobj) -> None:
         vobj.DiffuseColor = [normal] * max(faces, 1)
         return
     vobj.DiffuseColor = [WARNING_COLOUR if bad else normal for bad in failing]
+
+
+DIMMED = (0.82, 0.82, 0.82)
+"""Light grey: the faces of the surfaces not highlighted in the network panel."""
+
+
+def surface_palette(count: int) -> list:
+    """``count`` RGB colours (0..1) far apart in hue, one per surface of a network: the hue steps by
+    the golden ratio, so that neighbouring surface numbers never look alike."""
+    import colorsys
+
+    return [colorsys.hsv_to_rgb((0.08 + 0.618034 * k) % 1.0, 0.55, 0.95) for k in range(count)]
+
+
+def network_face_colours(face_surfaces: list, surface_count: int, highlight=None) -> list:
+    """Per face of a network's shape, its surface's colour (``surface_palette``); with
+    ``highlight`` (a collection of surface indices) the faces of every other surface are DIMMED."""
+    palette = surface_palette(max(surface_count, max(face_surfaces, default=-1) + 1))
+    return [palette[k] if highlight is None or k in highlight else DIMMED for k in face_surfaces]

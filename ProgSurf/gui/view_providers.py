@@ -1,13 +1,15 @@
-"""View providers of the Stroke and Surface features.
+"""View providers of the Stroke, Surface and SurfaceNetwork features.
 
 Stroke colour tells its outcome in the surface that uses it: boundary (blue), interior accepted
 (green), rejected (red), unused (grey). The surface can colour its faces by an analysis value
-(``ColourBy``, see face_colours), recomputed whenever its Shape changes.
+(``ColourBy``, see face_colours), recomputed whenever its Shape changes. A surface network colours
+each surface's faces apart (face_colours.surface_palette, the legend of its task panel), and dims all
+but the surfaces its panel highlights.
 """
 from __future__ import annotations
 
 from .common import icon
-from .face_colours import COLOUR_BY, colour_faces
+from .face_colours import COLOUR_BY, colour_faces, network_face_colours
 
 COLOURS = {
     ("boundary", "accepted"): (0.10, 0.30, 0.90),
@@ -30,8 +32,10 @@ def attach(vobj, kind: str) -> None:
         ViewProviderStroke(vobj)
     elif kind == "surface":
         ViewProviderSurface(vobj)
+    elif kind == "network":
+        ViewProviderNetwork(vobj)
     else:
-        raise ValueError(f"unknown view provider kind {kind!r}; use 'stroke' or 'surface'")
+        raise ValueError(f"unknown view provider kind {kind!r}; use 'stroke', 'surface' or 'network'")
 
 
 class _Base:
@@ -153,3 +157,72 @@ class ViewProviderSurface(_Base):
         FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
         return True
 
+
+
+class ViewProviderNetwork(_Base):
+    """A surface network: each surface's faces in its own colour; double-click opens the panel that
+    lists the surfaces with their strokes and every stroke's accounting.
+
+    ``highlight``: the surface indices the panel shows (None = all); transient, not saved."""
+
+    icon_name = "ProgSurf_SurfaceNetwork"
+
+    def __init__(self, vobj) -> None:
+        self.highlight = None
+        super().__init__(vobj)
+        vobj.LineWidth = 1.0
+
+    def attach(self, vobj) -> None:
+        self.highlight = None
+        super().attach(vobj)
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop in ("Shape", "FaceSurfaces") and getattr(obj, "ViewObject", None):
+            self.apply_colours(obj.ViewObject)
+            # as for the surface: FreeCAD redraws the faces in one colour after this call
+            from PySide import QtCore
+
+            QtCore.QTimer.singleShot(0, lambda vobj=obj.ViewObject: self.recolour(vobj))
+
+    def onChanged(self, vobj, prop: str) -> None:
+        return None
+
+    def show_surfaces(self, vobj, surfaces=None) -> None:
+        """Highlight the faces of ``surfaces`` (indices; None = every surface in its colour)."""
+        self.highlight = None if surfaces is None else set(surfaces)
+        self.apply_colours(vobj)
+
+    def apply_colours(self, vobj) -> None:
+        obj = vobj.Object
+        owners = list(obj.FaceSurfaces)
+        if obj.Shape.isNull() or len(owners) != len(obj.Shape.Faces):
+            return                      # a failed first build: no faces, or faces of another build
+        vobj.DiffuseColor = network_face_colours(owners, obj.SurfaceCount, getattr(self, "highlight", None))
+
+    def recolour(self, vobj) -> None:
+        """apply_colours, unless the object was deleted since it was asked for."""
+        try:
+            vobj.Object
+        except ReferenceError:
+            return
+        self.apply_colours(vobj)
+
+    def setEdit(self, vobj, mode: int = 0) -> bool:
+        if mode != 0:
+            return False
+        from . import network_panel
+
+        network_panel.show(vobj.Object)
+        return True
+
+    def unsetEdit(self, vobj, mode: int = 0) -> bool:
+        import FreeCADGui
+
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def doubleClicked(self, vobj) -> bool:
+        import FreeCADGui
+
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
+        return True

@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[2]
 ICON_DIR = ROOT / "resources" / "icons"
 ICONS = ("ProgSurf", "ProgSurf_ImportStrokes", "ProgSurf_StrokesFromSelection",
          "ProgSurf_CreateSurface", "ProgSurf_AddInterior", "ProgSurf_Export",
-         "ProgSurf_Analyse", "ProgSurf_Stroke", "ProgSurf_Surface")
+         "ProgSurf_Analyse", "ProgSurf_Stroke", "ProgSurf_Surface", "ProgSurf_SurfaceNetwork")
 
 # Layer rules of STYLE.md: which top-level modules each ProgSurf sub-package must not import.
 FREECAD_MODULES = {"FreeCAD", "FreeCADGui", "Part", "Mesh", "MeshPart", "Draft", "Sketcher",

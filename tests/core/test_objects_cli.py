@@ -37,8 +37,8 @@ def write_cube(path: Path) -> None:
 def test_cube_edges_build_one_closed_shell_through_the_command(tmp_path):
     src = tmp_path / "cube.xyz"
     write_cube(src)
-    step, report_path = tmp_path / "cube.step", tmp_path / "cube.json"
-    proc = run("build", str(src), "-o", str(step), "--report", str(report_path),
+    step, report_path, fcstd = tmp_path / "cube.step", tmp_path / "cube.json", tmp_path / "cube.FCStd"
+    proc = run("build", str(src), "-o", str(step), "--report", str(report_path), "--fcstd", str(fcstd),
                "--surfaces", "auto")                      # auto: a closed shell -> all
     assert proc.returncode == 0, proc.stderr + proc.stdout
     report = json.loads(report_path.read_text())
@@ -49,6 +49,19 @@ def test_cube_edges_build_one_closed_shell_through_the_command(tmp_path):
 
     back = cad.read_back(step)
     assert back["faces"] == 6 and back["shells"] == 1 and back["valid"]
+    # the FreeCAD document holds one parametric SurfaceNetwork on the twelve strokes, as the report
+    import FreeCAD
+
+    doc = FreeCAD.openDocument(str(fcstd))
+    try:
+        net = doc.getObject("SurfaceNetwork")
+        assert len(net.Strokes) == 12 and net.LastError == ""
+        assert (len(net.Shape.Faces), net.ClosedShells) == (6, 1)
+        assert net.FitTolerance == pytest.approx(report["tolerances"]["fit_mm"])
+        assert [line.split(": ", 1)[1] for line in net.StrokeAccounting] == [s["summary"] for s in report["strokes"]]
+        assert net.Shape.Area == pytest.approx(doc.getObject("ExportedShell").Shape.Area, rel=1e-9)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
 
 
 def test_surfaces_one_keeps_the_single_surface(tmp_path):
