@@ -37,11 +37,17 @@ def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
+PARALLEL_SINE = 1e-10
+"""Two segments whose directions' sine is below this are parallel (segment_intersections)."""
+
+
 def segment_intersections(a: FloatArray, b: FloatArray) -> tuple[FloatArray, ...]:
     """All crossings of the segments of 2D polylines a (n, 2) and b (m, 2).
 
     Returns (i, j, t, s): segment a[i]a[i+1] at fraction t meets b[j]b[j+1] at fraction s
-    (closed intervals; parallel segments are ignored)."""
+    (closed intervals; parallel segments are ignored, and so are segments within PARALLEL_SINE of
+    parallel: on a side drawn as an exact straight line, as a program draws it, the projection's
+    round-off alone gave two non-adjacent segments of one line a "crossing" at an arbitrary t, s)."""
     if a.shape[0] < 2 or b.shape[0] < 2:
         return (np.zeros(0, int), np.zeros(0, int), np.zeros(0), np.zeros(0))
     p, r = a[:-1], np.diff(a, axis=0)
@@ -49,6 +55,8 @@ def segment_intersections(a: FloatArray, b: FloatArray) -> tuple[FloatArray, ...
     w = q[None, :, :] - p[:, None, :]
     with np.errstate(divide="ignore", invalid="ignore"):
         den = _cross(r[:, None, :], e[None, :, :])
+        lengths = np.linalg.norm(r, axis=1)[:, None] * np.linalg.norm(e, axis=1)[None, :]
+        den = np.where(np.abs(den) <= PARALLEL_SINE * lengths, 0.0, den)
         t = _cross(w, e[None, :, :]) / den
         s = _cross(w, r[:, None, :]) / den
     ok = np.isfinite(t) & np.isfinite(s) & (t >= 0) & (t <= 1) & (s >= 0) & (s <= 1)

@@ -332,3 +332,22 @@ def test_triangle_apex_keeps_away_from_a_stroke_that_stops_short_of_a_corner():
     meridian = line(np.array([70.0, 30, 0]), a + np.array([3.0, 1, 0]))
     both = np.array([[meridian[-1], meridian[-3]], [meridian[0], meridian[2]]])
     assert triangle_apex(sides, both) == triangle_apex(sides)
+
+
+def test_a_straight_line_does_not_cross_itself():
+    """issue 16 (--clean families): sides drawn as exact straight lines, as a program draws them,
+    were refused as "the closed boundary crosses itself ... (strokes 0 and 0)" (2 of 90 sketchgen
+    sketches without jitter): two non-adjacent segments of one line, collinear up to round-off,
+    met at an arbitrary point. Of 200 random lines, 20 did; now none."""
+    from ProgSurf.core.closing import segment_intersections
+
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        d = rng.normal(size=2)
+        d /= np.linalg.norm(d)
+        uv = rng.normal(size=2) * 100 + np.sort(rng.uniform(0, 100, 80))[:, None] * d
+        i, j, _, _ = segment_intersections(uv, uv)
+        assert np.all(np.abs(i - j) <= 1), "a crossing between non-adjacent segments of one line"
+    # a real crossing is still found
+    i, j, t, s = segment_intersections(np.array([[0.0, 0], [1, 1]]), np.array([[0.0, 1], [1, 0]]))
+    assert len(i) == 1 and t[0] == pytest.approx(0.5) and s[0] == pytest.approx(0.5)
