@@ -571,11 +571,13 @@ def offset_limit_mm(network) -> float:
 def bound_summary(shell, network) -> dict:
     """What a G1 ShellResult's bound did (for the build report): the bound, the largest move of a
     face from its G0 face, the seams left G0 (creases that no band within the bound rounds), the
-    faces left G0 because their correction turned them over, and the faces whose correction was
-    scaled down to the bound (their seams keep part of the G0 defect)."""
+    faces left G0 because their correction turned them over, the faces whose correction was
+    scaled down to the bound (their seams keep part of the G0 defect), and the faces put back to
+    G0 because the G1 faces together folded where G0 did not (shell.keep_no_new_fold)."""
     faces = sorted((g for g, _ in shell.cache.g1_shapes.values()), key=lambda g: g.region_id)
     return {"offset_bound_mm": offset_limit_mm(network),
             "offset_max_mm": max((g.offset_mm for g in faces), default=0.0),
             "seams_left_g0": sorted({e for g in faces for e in g.kept_g0}),
             "faces_left_g0_turned_over": [g.region_id for g in faces if g.turned_over],
-            "faces_scaled_to_bound": [g.region_id for g in faces if g.scaled]}
+            "faces_scaled_to_bound": [g.region_id for g in faces if g.scaled],
+            "faces_left_g0_new_fold": list(getattr(shell, "g1_reverted", ()))}

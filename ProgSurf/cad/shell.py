@@ -118,6 +118,41 @@ class ShellResult:
     g0_faces: tuple = ()
     cache: ShellCache = field(default_factory=ShellCache, repr=False, compare=False)
     reused: dict = field(default_factory=dict, compare=False)
+    g1_reverted: tuple = ()
+
+
+G1_REVERT_ROUNDS = 4
+"""keep_no_new_fold: rounds of putting faces back to G0 before every face is."""
+
+
+def keep_no_new_fold(g0_faces: tuple, g1_faces: list, sharp: frozenset) -> tuple[list, tuple]:
+    """G1 never makes it worse (issue 16): the faces of every fold (analysis.folds: a seam whose
+    faces meet at more than 60 deg, a face that turns over) that the G1 faces have and the G0
+    faces do not are put back to their G0 faces, which have the same boundaries, until no new fold
+    is left (after G1_REVERT_ROUNDS rounds, every face is). cad.g1 leaves a seam G0 where its
+    faces disagree and a face whose own correction turns it over, but two corrections that each
+    stay within the bound can still meet at a crease near a corner (sk_octant_8: G1 made seams of
+    149-172 deg around a 3-sided face that G0 had smooth). Returns (faces, region ids put back)."""
+    from types import SimpleNamespace
+
+    from .analysis import folds
+
+    def keys(faces) -> set:
+        return {(f.kind, f.regions) for f in folds(SimpleNamespace(faces=tuple(faces), sharp_edges=sharp))}
+
+    before = keys(g0_faces)
+    faces = list(g1_faces)
+    back: set = set()
+    for _ in range(G1_REVERT_ROUNDS):
+        new = keys(faces) - before
+        if not new:
+            return faces, tuple(sorted(back))
+        back |= {r for _, regions in new for r in regions}
+        faces = [g0 if g0.region_id in back else g1 for g0, g1 in zip(g0_faces, g1_faces)]
+    if keys(faces) - before:
+        back |= {f.region_id for f in g0_faces}
+        faces = list(g0_faces)
+    return faces, tuple(sorted(back))
 
 
 def network_diagonal(network) -> float:
@@ -152,10 +187,11 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": counts_faces}
     timings = {"fit_edges": t1 - t0, "faces": t2 - t1}
-    g0_faces, sharp = (), frozenset()
+    g0_faces, sharp, reverted = (), frozenset(), ()
     if continuity == "G1":
         g0_faces = tuple(infos)
         infos, sharp = g1_faces(network, g0_faces, last, cache)
+        infos, reverted = keep_no_new_fold(g0_faces, infos, sharp)
         timings["g1"] = time.perf_counter() - t2
     t3 = time.perf_counter()
     faces = [i.face for i in infos]
@@ -173,4 +209,4 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     timings["sew"] = time.perf_counter() - t3
     counts["sewn"] = (sum(1 for f in faces if id(f) in presewn), len(faces))
     counts["local_sew"] = local is not None
-    return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts)
+    return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts, reverted)
