@@ -105,10 +105,23 @@ def _closest_on_triangles(q: FloatArray, tri: FloatArray) -> tuple[FloatArray, F
     return best_w, best_d
 
 
-def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint | None:
+TIE_FRACTION = 1e-7
+"""Facets whose distances from a point differ by less than this fraction of the nearest one's
+longer edge are equally near (sheets of the surface that lie on each other, up to round-off)."""
+
+
+def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0,
+                   near_uv: FloatArray | None = None) -> Footpoint | None:
     """The nearest real footpoint of q (3,) on the facets (Eq. 2): among the facets whose
     projection of q falls inside them (within `slack` mm), the nearest point of the nearest
-    facet; None if there is none."""
+    facet; None if there is none.
+
+    near_uv : (2,) where the caller expects the pre-image. Where the surface lies on itself (a
+              boundary side filtered to a line out and back makes two coincident sheets), several
+              facets are equally near at different pre-images, and round-off chose among them: a
+              rotated sketch put a stroke's points on the other sheet (issue 17, TiGL fuselage1).
+              Among facets equally near (TIE_FRACTION) the one whose footpoint's pre-image is
+              nearest near_uv is taken; without near_uv, the first of them."""
     q = np.asarray(q, dtype=float)
     tri = facets.xyz
     inv, good, edge_len = facets.solver if facets.solver is not None else prepare(tri)
@@ -125,6 +138,11 @@ def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoi
     # by the distance to the nearest point of each facet, not to its plane.
     w_all, dist_all = _closest_on_triangles(q, tri[idx])
     pick = int(np.argmin(dist_all))
+    if near_uv is not None:
+        tied = np.flatnonzero(dist_all <= dist_all[pick] + TIE_FRACTION * edge_len[idx[pick]])
+        if len(tied) > 1:
+            uvs = np.einsum("kj,kjd->kd", w_all[tied], facets.uv[idx[tied]])
+            pick = int(tied[np.argmin(np.linalg.norm(uvs - near_uv, axis=1))])
     k = idx[pick]
     w = w_all[pick]
     foot = w @ tri[k]
@@ -132,14 +150,15 @@ def real_footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoi
     return Footpoint(xyz=foot, uv=w @ facets.uv[k], distance=dist, region=int(facets.region[k]), inside=True)
 
 
-def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0) -> Footpoint:
+def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0, near_uv: FloatArray | None = None) -> Footpoint:
     """The footpoint of q (3,) on the facets (Eq. 2), as described in the module docstring.
 
     slack : a real footpoint may lie this far (in mm) outside its facet, to absorb the
             faceting of a curved surface near the outer boundary.
+    near_uv : the expected pre-image, which decides among equally near facets (real_footpoint)
     """
     q = np.asarray(q, dtype=float)
-    found = real_footpoint(q, facets, slack)
+    found = real_footpoint(q, facets, slack, near_uv)
     if found is not None:
         return found
     tri = facets.xyz

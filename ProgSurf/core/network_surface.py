@@ -215,7 +215,7 @@ class NetworkSurface:
         self._view_cache.joined = (key, parts, facets)
         return facets
 
-    def footpoint(self, q: FloatArray, slack: float = 0.0) -> Footpoint:
+    def footpoint(self, q: FloatArray, slack: float = 0.0, near_uv: FloatArray | None = None) -> Footpoint:
         """Footpoint of q on the current surface (Eq. 2). The nearest real footpoint is searched
         only among regions whose bounding box can hold one nearer than the best of the nearest
         few regions (same result as searching every facet, in the same order); only when those
@@ -225,15 +225,15 @@ class NetworkSurface:
         boxes = self._boxes(parts)
         gap = np.linalg.norm(np.maximum(0.0, np.maximum(boxes[:, 0] - q, q - boxes[:, 1])), axis=1)
         near = np.sort(np.argsort(gap, kind="stable")[:NEAR_REGIONS])
-        found = real_footpoint(q, _join_parts([parts[i] for i in near]), slack)
+        found = real_footpoint(q, _join_parts([parts[i] for i in near]), slack, near_uv)
         if found is not None:
             # (a margin for the round-off of the boxes: 1e-9 mm at 100 mm, relative to the point)
             margin = 1e-11 * (float(np.abs(q).max()) + abs(found.distance) + slack)
             reach = np.flatnonzero(gap <= abs(found.distance) + slack + margin)
             if not set(reach.tolist()) <= set(near.tolist()):
-                found = real_footpoint(q, _join_parts([parts[i] for i in reach]), slack)
+                found = real_footpoint(q, _join_parts([parts[i] for i in reach]), slack, near_uv)
             return found
-        return footpoint(q, self.facets(), slack)
+        return footpoint(q, self.facets(), slack, near_uv)
 
     def _boxes(self, parts: list) -> FloatArray:
         """(R, 2, 3) bounding boxes (min, max) of the regions' facets, kept while the parts are."""

@@ -127,7 +127,8 @@ def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: F
     if i1 - i0 < 2 or depth >= MAX_DEPTH:
         return []
     m = (i0 + i1) // 2
-    f = net.footpoint(pts[m], slack=snap)
+    # (where the surface lies on itself, the sheet nearest the straight pre-image: footpoint near_uv)
+    f = net.footpoint(pts[m], slack=snap, near_uv=uv0 + (m - i0) / (i1 - i0) * (uv1 - uv0))
     if not f.inside:
         raise StrokeOutsideSurfaceError(
             f"its point {m} ({pts[m][0]:.1f}, {pts[m][1]:.1f}, {pts[m][2]:.1f}) projects outside the surface")

@@ -23,6 +23,11 @@ Snap = tuple
 """Where an end snapped (see :func:`snap_end`): (j, edge id, t, point), the stroke point index j,
 the edge parameter t and the point (3,) on the edge."""
 
+SNAP_TIE_FRACTION = 1e-6
+"""Two snaps of one end whose distances, and whose points, differ by less than this fraction of
+the snap distance are a tie (far above round-off, far below any drawn difference): the same place
+reached on two edges, or twice on one edge that doubles back (see :func:`trim_ends`)."""
+
 
 @dataclass
 class StrokeEnd:
@@ -45,6 +50,10 @@ class StrokeEnd:
     region: int = -1
 
 
+UV_TIE = 1e-9
+"""Pre-image distances (the unit square) that differ by less than this are equal."""
+
+
 def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]:
     """Step (2): is the first end of pts on or crossing a boundary curve?
 
@@ -52,6 +61,15 @@ def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]
     (outer sides, earlier strokes). Over-sketch past an outer side may be any length; past an
     interior curve it may be at most 2 snap long, so a stroke that truly crosses an earlier
     one near its start is not cut there (a 15 % allowance had cut real stroke). Returns (j, edge id, t, point) or None."""
+    tied = snap_candidates(pts, snap, segs)
+    return tied[0] if tied else None
+
+
+def snap_candidates(pts: FloatArray, snap: float, segs: EdgeSegments) -> list[Snap]:
+    """The snaps of :func:`snap_end`, the nearest first, with every other one tied with it: as near
+    to the stroke and at the same point, within SNAP_TIE_FRACTION of the snap distance (the same
+    place on another edge, or on a stretch of edge that doubles back over another). Empty for a
+    free end."""
     a, b, eid, t0, t1, outer = segs
     h = max(1, len(pts) // 2)
     p = pts[:h]
@@ -67,9 +85,12 @@ def snap_end(pts: FloatArray, snap: float, segs: EdgeSegments) -> Optional[Snap]
     d = np.where(allowed, d, np.inf)
     j, s = np.unravel_index(int(np.argmin(d)), d.shape)
     if not d[j, s] < snap:
-        return None
-    t = t0[s] + w[j, s] * (t1[s] - t0[s])
-    return int(j), int(eid[s]), float(t), close[j, s]
+        return []
+    tie = SNAP_TIE_FRACTION * snap
+    near = (d <= d[j, s] + tie) & (np.linalg.norm(close - close[j, s], axis=2) <= tie)
+    near[j, s] = False
+    tied = [(j, s)] + list(zip(*np.nonzero(near)))
+    return [(int(k), int(eid[q]), float(t0[q] + w[k, q] * (t1[q] - t0[q])), close[k, q]) for k, q in tied]
 
 
 def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArray, Optional[Snap], Optional[Snap]]:
@@ -77,15 +98,51 @@ def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArr
     where it meets it, running smoothly into the snap point (run_into). Returns the trimmed points (first and last point on the boundary when
     snapped) and the snaps of the first and last end (None for a free end)."""
     segs = net.edge_segments()
-    first = snap_end(pts, snap, segs)
-    if first is not None:
-        pts = run_into(pts, first[0], first[3])
-    last = snap_end(pts[::-1], snap, segs)
-    if last is not None:
-        pts = run_into(pts[::-1], last[0], last[3])[::-1]
+    firsts = snap_candidates(pts, snap, segs)
+    if firsts:
+        pts = run_into(pts, firsts[0][0], firsts[0][3])
+    lasts = snap_candidates(pts[::-1], snap, segs)
+    if lasts:
+        pts = run_into(pts[::-1], lasts[0][0], lasts[0][3])[::-1]
     if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9 * snap:
         raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
+    first, last = _nearest_pair(net, firsts, lasts, pts, snap)
     return pts, first, last
+
+
+def _nearest_pair(net: PatchNetwork, firsts: list[Snap], lasts: list[Snap], pts: FloatArray,
+                  snap: float) -> tuple[Optional[Snap], Optional[Snap]]:
+    """The snaps of the two ends among tied ones (snap_candidates): the pair whose pre-images are
+    nearest each other (the shortest pre-image of the stroke). A tie is one point reached at
+    several pre-images, e.g. on a side that doubles back (a profile thinner than the filter
+    distance, filtered to a line out and back): the nearest by distance, the first tried, was then
+    a matter of round-off, and the rotated sketch ran a stroke to the other half of such a side,
+    diagonally across its pre-image, and folded (issue 17, TiGL fuselage1). A free end counts at
+    its footpoint (the candidate nearest by distance when it projects outside). The pre-image
+    distance is the same whichever corner and direction the unit square's sides were given, so the
+    choice follows the sketch, not the order or direction its strokes were drawn in."""
+    if len(firsts) <= 1 and len(lasts) <= 1:
+        return (firsts[0] if firsts else None), (lasts[0] if lasts else None)
+    edges = net.edges()
+
+    def uv(x: Snap) -> FloatArray:
+        ev = edges[x[1]]
+        return ev.uv0 + x[2] * (ev.uv1 - ev.uv0)
+
+    def free(q: FloatArray) -> list:
+        f = net.footpoint(q, slack=snap)
+        return [None] if not f.inside else [f.uv]
+
+    ends = [[(x, uv(x)) for x in firsts] or [(None, u) for u in free(pts[0])],
+            [(x, uv(x)) for x in lasts] or [(None, u) for u in free(pts[-1])]]
+    if any(u is None for _, u in ends[0] + ends[1]):
+        return (firsts[0] if firsts else None), (lasts[0] if lasts else None)
+    pairs = [(float(np.linalg.norm(ua - ub)), a, b) for (a, ua) in ends[0] for (b, ub) in ends[1]]
+    # (pre-image distances equal to round-off, e.g. at a node that ends two edges, keep the
+    # nearest snaps, the first pair)
+    shortest = min(p[0] for p in pairs)
+    _, a, b = next(p for p in pairs if p[0] <= shortest + UV_TIE)
+    return a, b
 
 
 def run_into(pts: FloatArray, j: int, target: FloatArray) -> FloatArray:

@@ -39,7 +39,7 @@ def line_params(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatA
     d = uv1 - uv0
     at = [0.0]
     for i in idx[1:-1]:
-        f = net.footpoint(pts[i], slack=snap)
+        f = net.footpoint(pts[i], slack=snap, near_uv=uv0 + chord[i] * d)
         at.append(float((f.uv - uv0) @ d / (d @ d)))
     at.append(1.0)
     at = np.array(at)

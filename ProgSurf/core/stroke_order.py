@@ -105,10 +105,16 @@ def _is_ring(p3: FloatArray) -> bool:
     return float(np.linalg.norm(p3[-1] - p3[0])) <= CLOSED_FRACTION * chord_length(p3)
 
 
-def _orient_rings(strokes3d: Sequence[FloatArray], order: list[int], flags: list[bool]) -> list[bool]:
+def _orient_rings(strokes3d: Sequence[FloatArray], order: list[int], flags: list[bool],
+                  ends: FloatArray, penalty: float) -> list[bool]:
     """In a loop of four, two opposite rings (closed strokes, e.g. the first and last profile of a
     fuselage) are run in opposite directions along the loop, so that as bottom and top of the Coons
-    patch (top reversed) they turn the same way and the surface does not twist."""
+    patch (top reversed) they turn the same way and the surface does not twist. Which of the two
+    turns round is the one whose turning leaves the smaller gaps at the ring's ends (the cycle
+    cost): turning the later one in the order, as before, made a loop that followed which ring
+    came first in the input and which way it was drawn, and the same nacelle with its boundary
+    strokes shuffled or reversed closed each ring at its other end, 100 mm away (issue 17,
+    TiGL full_nacelle). Gaps equal within `penalty` turn the later one."""
     flags = list(flags)
     if len(order) != 4:
         return flags
@@ -118,7 +124,10 @@ def _orient_rings(strokes3d: Sequence[FloatArray], order: list[int], flags: list
             va = _vector_area(sa) * (-1 if flags[a] else 1)
             vb = _vector_area(sb) * (-1 if flags[a + 2] else 1)
             if float(va @ vb) > 0:
-                flags[a + 2] = not flags[a + 2]
+                later, first = list(flags), list(flags)
+                later[a + 2], first[a] = not flags[a + 2], not flags[a]
+                turn_first = _cycle_cost(order, first, ends, 0.0) < _cycle_cost(order, later, ends, 0.0) - penalty
+                flags = first if turn_first else later
     return flags
 
 
@@ -132,6 +141,6 @@ def order_strokes(strokes3d: Sequence[FloatArray], diagonal: float) -> tuple[lis
     ends = _oriented_ends(strokes3d)
     penalty = 1e-9 * diagonal
     order, flags = (_exact_cycle if k <= EXACT_ORDER_MAX else _greedy_cycle)(ends, penalty)
-    return order, _orient_rings(strokes3d, order, flags)
+    return order, _orient_rings(strokes3d, order, flags, ends, penalty)
 
 

@@ -63,6 +63,32 @@ def test_the_harness_finds_a_moved_surface(tmp_path):
     assert max(fuzz.shell_distance(shape, moved, m)) < 1e-9
 
 
+def _folded_shell(gap: float):
+    """One B-spline face 160 x 100 mm that runs out along x over 99 % of its v range and, in the last
+    1 %, turns over and runs back 120 mm, `gap` mm above itself (a fold, as a build that turns over
+    makes): the parameter grid of the dense samples has no point on that last stretch."""
+    import Part
+
+    xs, zs = [0.0, 50.0, 100.0, 150.0, 160.0, 160.0, 40.0], [0.0, 0.0, 0.0, 0.0, gap / 2, gap, gap]
+    poles = [[FreeCAD.Vector(x, y, z) for x, z in zip(xs, zs)] for y in (0.0, 33.0, 66.0, 100.0)]
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots(poles, [4, 4], [4, 1, 1, 1, 4], [0.0, 1.0], [0.0, 0.5, 0.99, 0.995, 1.0],
+                                     False, False, 3, 3)
+    return Part.Shell([surface.toShape()])
+
+
+def test_the_harness_measures_a_folded_shell_as_itself():
+    """Issue 17: the unmutated fuselage1.noisy (its faces turn over) measured 145 mm from itself, so
+    every invariance case of it was BAD with the same surface. The folded-back stretch of this face
+    measured 20 mm (its gap) from itself; OCC's distance of the largest ones makes it 0, and the
+    same face moved by 5 mm is still found 5 mm away."""
+    shape = _folded_shell(20.0)
+    assert max(fuzz.shell_distance(shape, shape.copy())) < 1e-6
+    moved = shape.copy()
+    moved.translate(FreeCAD.Vector(0.0, 5.0, 0.0))     # along y: off the face's sides by 5 mm
+    assert all(4.9 <= d <= 5.0 + 1e-6 for d in fuzz.shell_distance(shape, moved))
+
+
 def _build(strokes):
     out = build_and_measure(strokes, None, Tolerances(), continuity="G0", skin=False, report=False)
     return out.shell.shape, out.result
