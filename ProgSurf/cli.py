@@ -360,6 +360,13 @@ def run_build(args, out=sys.stdout) -> dict:
     if len(shape.Shells) != 1 or not shape.isValid():
         raise ProgSurfError(f"OCC made {len(shape.Shells)} shells (valid={shape.isValid()}) instead of one "
                             "valid shell; please report this sketch")
+    gap = outcome.analysis.report.shell["seam_gap_max_mm"] if outcome.analysis.report is not None else 0.0
+    if gap > result.tol.fit_mm:
+        # BRepCheck passes a shell sewn onto itself (a sketch whose surface lies on itself): its
+        # faces are far apart along an edge they share, and the STEP file would read back invalid
+        raise ProgSurfError(f"OCC sewed a shell whose faces are {gap:.3g} mm apart along an edge they share "
+                            f"(fit tolerance {result.tol.fit_mm:.3g} mm): the surface lies on itself; "
+                            "check that the boundary strokes go once around the surface")
 
     clock = time.perf_counter()
     outputs = {"step": args.output}

@@ -289,3 +289,31 @@ def test_tigl_networks_with_their_boundary_first_build(shared_data, tmp_path, na
     out = tmp_path / "o.step"
     proc, _ = run(str(path), "--boundary-count", "4", "-o", str(out), "-q")
     assert_built(proc, out)
+
+
+def test_a_shell_sewn_onto_itself_is_refused_not_written_invalid(tmp_path):
+    """fuzz seed 17 case 235: the TiGL fuselage1 tube, boundary first, lies on itself (its end rings,
+    narrower than the filter distance, are filtered to lines out and back); OCC sewed a shell that
+    BRepCheck passes, 178 mm apart along an edge its faces share, and the STEP file read back invalid
+    (exit 3). It is refused in one line, and nothing is written."""
+    import sys
+
+    sys.path.insert(0, str(EXAMPLES))
+    from real_data_trial import tigl_boundary
+
+    path = ROOT.parent / "shared" / "data" / "tigl" / "fuselage1" / "fuselage1.clean.xyz"
+    if not path.is_file():
+        pytest.skip(f"the TiGL sketch {path} is not there (../shared/data is beside the project's own checkout only)")
+    from ProgSurf.io import read_strokes
+    from ProgSurf.io.pointlist import write_point_list
+
+    strokes = read_strokes(path)
+    first = tigl_boundary(path)
+    ordered = [strokes[i] for i in first] + [s for i, s in enumerate(strokes) if i not in first]
+    sketch = tmp_path / "fuselage1.xyz"
+    write_point_list(sketch, ordered)
+    step = tmp_path / "out.step"
+    proc, seconds = run(str(sketch), "-o", str(step), "--boundary-count", str(len(first)), "-q")
+    # refused after the build (the time bound of a refusal before any work does not apply)
+    assert_refused(proc, 0.0, "apart along an edge they share", "lies on itself")
+    assert seconds < BUILD_S and not step.exists()
