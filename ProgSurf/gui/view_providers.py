@@ -93,7 +93,50 @@ class ViewProviderStroke(_Base):
         return None
 
 
-class ViewProviderSurface(_Base):
+class _Faces(_Base):
+    """A feature whose view provider colours its faces itself and opens its panel on a double-click:
+    subclasses define apply_colours(vobj) and open_panel(obj)."""
+
+    recolour_on: tuple = ("Shape",)
+    """The data properties whose change colours the faces again."""
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop in self.recolour_on and getattr(obj, "ViewObject", None):
+            self.apply_colours(obj.ViewObject)
+            # FreeCAD's own view provider rebuilds the faces after this call and draws them in one
+            # colour, whatever DiffuseColor holds: colour them again once the event loop is back
+            from PySide import QtCore
+
+            QtCore.QTimer.singleShot(0, lambda vobj=obj.ViewObject: self.recolour(vobj))
+
+    def recolour(self, vobj) -> None:
+        """apply_colours, unless the object was deleted since it was asked for."""
+        try:
+            vobj.Object
+        except ReferenceError:
+            return
+        self.apply_colours(vobj)
+
+    def setEdit(self, vobj, mode: int = 0) -> bool:
+        if mode != 0:
+            return False
+        self.open_panel(vobj.Object)
+        return True
+
+    def unsetEdit(self, vobj, mode: int = 0) -> bool:
+        import FreeCADGui
+
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def doubleClicked(self, vobj) -> bool:
+        import FreeCADGui
+
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
+        return True
+
+
+class ViewProviderSurface(_Faces):
     """A progressive surface; double-click opens its task panel."""
 
     icon_name = "ProgSurf_Surface"
@@ -113,15 +156,6 @@ class ViewProviderSurface(_Base):
         super().attach(vobj)
         self.setup(vobj)
 
-    def updateData(self, obj, prop: str) -> None:
-        if prop == "Shape" and getattr(obj, "ViewObject", None):
-            self.apply_colours(obj.ViewObject)
-            # FreeCAD's own view provider rebuilds the faces after this call and draws them in one
-            # colour, whatever DiffuseColor holds: colour them again once the event loop is back
-            from PySide import QtCore
-
-            QtCore.QTimer.singleShot(0, lambda vobj=obj.ViewObject: self.recolour(vobj))
-
     def onChanged(self, vobj, prop: str) -> None:
         if prop == "ColourBy":
             self.apply_colours(vobj)
@@ -129,43 +163,20 @@ class ViewProviderSurface(_Base):
     def apply_colours(self, vobj) -> None:
         colour_faces(vobj)
 
-    def recolour(self, vobj) -> None:
-        """apply_colours, unless the object was deleted since it was asked for."""
-        try:
-            vobj.Object
-        except ReferenceError:
-            return
-        colour_faces(vobj)
-
-    def setEdit(self, vobj, mode: int = 0) -> bool:
-        if mode != 0:
-            return False
+    def open_panel(self, obj) -> None:
         from . import task_panel
 
-        task_panel.edit_surface(vobj.Object)
-        return True
-
-    def unsetEdit(self, vobj, mode: int = 0) -> bool:
-        import FreeCADGui
-
-        FreeCADGui.Control.closeDialog()
-        return True
-
-    def doubleClicked(self, vobj) -> bool:
-        import FreeCADGui
-
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
+        task_panel.edit_surface(obj)
 
 
-
-class ViewProviderNetwork(_Base):
+class ViewProviderNetwork(_Faces):
     """A surface network: each surface's faces in its own colour; double-click opens the panel that
     lists the surfaces with their strokes and every stroke's accounting.
 
     ``highlight``: the surface indices the panel shows (None = all); transient, not saved."""
 
     icon_name = "ProgSurf_SurfaceNetwork"
+    recolour_on = ("Shape", "FaceSurfaces")
 
     def __init__(self, vobj) -> None:
         self.highlight = None
@@ -175,14 +186,6 @@ class ViewProviderNetwork(_Base):
     def attach(self, vobj) -> None:
         self.highlight = None
         super().attach(vobj)
-
-    def updateData(self, obj, prop: str) -> None:
-        if prop in ("Shape", "FaceSurfaces") and getattr(obj, "ViewObject", None):
-            self.apply_colours(obj.ViewObject)
-            # as for the surface: FreeCAD redraws the faces in one colour after this call
-            from PySide import QtCore
-
-            QtCore.QTimer.singleShot(0, lambda vobj=obj.ViewObject: self.recolour(vobj))
 
     def onChanged(self, vobj, prop: str) -> None:
         return None
@@ -199,30 +202,7 @@ class ViewProviderNetwork(_Base):
             return                      # a failed first build: no faces, or faces of another build
         vobj.DiffuseColor = network_face_colours(owners, obj.SurfaceCount, getattr(self, "highlight", None))
 
-    def recolour(self, vobj) -> None:
-        """apply_colours, unless the object was deleted since it was asked for."""
-        try:
-            vobj.Object
-        except ReferenceError:
-            return
-        self.apply_colours(vobj)
-
-    def setEdit(self, vobj, mode: int = 0) -> bool:
-        if mode != 0:
-            return False
+    def open_panel(self, obj) -> None:
         from . import network_panel
 
-        network_panel.show(vobj.Object)
-        return True
-
-    def unsetEdit(self, vobj, mode: int = 0) -> bool:
-        import FreeCADGui
-
-        FreeCADGui.Control.closeDialog()
-        return True
-
-    def doubleClicked(self, vobj) -> bool:
-        import FreeCADGui
-
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
+        network_panel.show(obj)

@@ -10,7 +10,6 @@ import itertools
 import json
 import os
 import sys
-import tempfile
 import unittest
 from pathlib import Path
 
@@ -28,6 +27,7 @@ import numpy as np  # noqa: E402
 import ProgSurf.app.make as ps  # noqa: E402
 from ProgSurf.app.network_object import network_report, stroke_accounts, surface_strokes  # noqa: E402
 from ProgSurf.core.errors import ProgSurfError  # noqa: E402
+from test_document import DocTestCase  # noqa: E402
 
 SIZE = 10.0
 BULGE = 2.0
@@ -48,13 +48,13 @@ def distance(shape, point):
     return shape.distToShape(Part.Vertex(FreeCAD.Vector(*point)))[0]
 
 
-class NetworkTestCase(unittest.TestCase):
+class NetworkTestCase(DocTestCase):
     """A fresh document per test (UndoMode 1), closed afterwards; a cube's edges and one stray stroke."""
 
+    undo = True
+
     def setUp(self):
-        self.doc = FreeCAD.newDocument("ProgSurfNetwork")
-        self.doc.UndoMode = 1
-        self.tmp = tempfile.TemporaryDirectory()
+        super().setUp()
         self.edges = [ps.make_stroke_from_points(p, name="Edge", doc=self.doc, recompute=False)
                       for p in cube_edges()]
         # 20 mm away from the cube: it meets no other stroke
@@ -64,17 +64,6 @@ class NetworkTestCase(unittest.TestCase):
         self.net = ps.make_surface_network(doc=self.doc)      # every stroke of the document
         self.doc.commitTransaction()
         self.assertRecomputed(self.net, *self.edges)
-
-    def tearDown(self):
-        if self.doc.Name in FreeCAD.listDocuments():
-            FreeCAD.closeDocument(self.doc.Name)
-        self.tmp.cleanup()
-
-    def assertRecomputed(self, *objs):
-        for obj in objs:
-            self.assertTrue(obj.isValid(), f"{obj.Label}: {obj.State}")
-            self.assertNotIn("Invalid", obj.State)
-            self.assertNotIn("Error", obj.State)
 
     def surface_faces(self, net, k):
         return [f for f, owner in zip(net.Shape.Faces, net.FaceSurfaces) if owner == k]
