@@ -44,8 +44,13 @@ class SeamStat:
 
 def _edge_uses(result) -> dict:
     """edge_id -> [(FaceInfo, side index, SidePiece)] over all faces."""
+    return _uses_of(result.faces)
+
+
+def _uses_of(faces) -> dict:
+    """_edge_uses of FaceInfos."""
     uses: dict = {}
-    for info in result.faces:
+    for info in faces:
         for k, pieces in enumerate(info.sides):
             for p in pieces:
                 uses.setdefault(p.edge_id, []).append((info, k, p))
@@ -372,20 +377,25 @@ def _face_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.nd
 
 
 def folds(result) -> list[Fold]:
-    """Every fold of a ShellResult: seams whose faces' normals differ by more than FOLD_SEAM_DEG
-    between 5 % and 95 % of the seam (seams kept sharp on purpose, result.sharp_edges, excepted),
-    and faces with a normal more than FOLD_FACE_DEG from their mean normal."""
+    """Every fold of a ShellResult: face_folds of its faces, its sharp_edges excepted."""
+    return face_folds(result.faces, getattr(result, "sharp_edges", ()) or ())
+
+
+def face_folds(faces, sharp_edges=()) -> list[Fold]:
+    """Every fold among FaceInfos: seams whose faces' normals differ by more than FOLD_SEAM_DEG
+    between 5 % and 95 % of the seam (seams kept sharp on purpose, sharp_edges, excepted), and
+    faces with a normal more than FOLD_FACE_DEG from their mean normal."""
     out = []
     t = np.linspace(0.05, 0.95, FOLD_SAMPLES)
-    sharp = set(getattr(result, "sharp_edges", ()) or ())
-    for eid, uses in sorted(_edge_uses(result).items()):
+    sharp = set(sharp_edges)
+    for eid, uses in sorted(_uses_of(faces).items()):
         if len(uses) != 2 or eid in sharp:
             continue
         _, angles = _seam_samples(uses[0], uses[1], t)
         angles = angles[~np.isnan(angles)]
         if len(angles) and angles.max() > FOLD_SEAM_DEG:
             out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), edge=eid))
-    for info in result.faces:
+    for info in faces:
         turn = face_turn_deg(info)
         if turn > FOLD_FACE_DEG:
             out.append(Fold("face", turn, (info.region_id,)))

@@ -133,12 +133,10 @@ def keep_no_new_fold(g0_faces: tuple, g1_faces: list, sharp: frozenset) -> tuple
     faces disagree and a face whose own correction turns it over, but two corrections that each
     stay within the bound can still meet at a crease near a corner (sk_octant_8: G1 made seams of
     149-172 deg around a 3-sided face that G0 had smooth). Returns (faces, region ids put back)."""
-    from types import SimpleNamespace
-
-    from .analysis import folds
+    from .analysis import face_folds
 
     def keys(faces) -> set:
-        return {(f.kind, f.regions) for f in folds(SimpleNamespace(faces=tuple(faces), sharp_edges=sharp))}
+        return {(f.kind, f.regions) for f in face_folds(faces, sharp)}
 
     before = keys(g0_faces)
     faces = list(g1_faces)

@@ -33,7 +33,8 @@ from .strokes import (APEX_TIE_DEG, auto_filter_threshold, chord_length, corner_
 from .types import FloatArray, Tolerances
 
 __all__ = ["Plane", "BoundaryLoop", "best_fit_plane", "classify_strokes", "close_boundary",
-           "merge_to_four", "triangle_apex", "turn_to_apex", "apex_holds", "equalise", "resample_arclength", "make_boundary"]
+           "merge_to_four", "triangle_apex", "turn_to_apex", "apex_holds", "stroke_end_pairs", "equalise",
+           "resample_arclength", "make_boundary"]
 
 N_RAYS = 720
 """Rays cast from the centroid in `classify_strokes` (one every half degree)."""
@@ -262,7 +263,7 @@ def triangle_apex(sides: Sequence[npt.ArrayLike], ends: Optional[npt.ArrayLike] 
 
 
 def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None,
-                  ends: Optional[npt.ArrayLike] = None, apex: Optional[int] = None) -> list[FloatArray]:
+                  apex: Optional[int] = None) -> list[FloatArray]:
     """N sides of a closed loop (in loop order, each ending where the next starts) to exactly four.
 
     More than four: Qin & Wright 2006, section 2.1: repeatedly merge the two adjacent sides whose
@@ -270,16 +271,17 @@ def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None,
     with the shortest total chord length.  Three sides: a degenerate side (one point repeated) is
     inserted after sides[1], so that the result reads bottom, right, top (degenerate), left-reversed
     with c3 == c2 (Fig. 4: F(u,1) = F1); the loop is first turned so that the corner after
-    sides[1] is `apex`, by default `triangle_apex(sides, ends)` (callers that keep per-side data
-    choose it and turn that data the same way: `turn_to_apex`).  Four: returned as copies.  Fewer than three: OpenBoundaryError.
+    sides[1] is `apex`, by default `triangle_apex(sides)` (callers that keep per-side data choose
+    it, with the interior strokes' ends, and turn that data the same way: `turn_to_apex`).  Four:
+    returned as copies.  Fewer than three: OpenBoundaryError.
     """
     pts = [np.array(s, dtype=float).reshape(-1, 3) for s in sides]
     if len(pts) < 3:
         raise OpenBoundaryError(f"a boundary of {len(pts)} side(s) cannot bound a surface; it needs 3 or more")
     if len(pts) == 3:
-        pts = turn_to_apex(pts, triangle_apex(pts, ends) if apex is None else apex)
-        apex = pts[1][-1]
-        return [pts[0], pts[1], np.stack([apex, apex]), pts[2]]
+        pts = turn_to_apex(pts, triangle_apex(pts) if apex is None else apex)
+        tip = pts[1][-1]
+        return [pts[0], pts[1], np.stack([tip, tip]), pts[2]]
     if plane is None:
         plane = best_fit_plane(np.concatenate(pts))
     groups, _ = _merge_groups(pts, plane)
@@ -494,7 +496,7 @@ def make_boundary(
         pts = [_join([loop[i].points for i in g]) for g in groups]
         sources = [tuple(sorted({j for i in g for j in loop[i].source})) for g in groups]
     if len(pts) == 3:
-        apex = triangle_apex(pts, _stroke_ends(arrays, interior))
+        apex = triangle_apex(pts, stroke_end_pairs(arrays, interior))
         pts, sources = turn_to_apex(pts, apex), turn_to_apex(sources, apex)
         notes.append(f"three-sided boundary: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         sources.insert(2, ())
@@ -527,14 +529,15 @@ def _loop_normal(loop3d: FloatArray, plane: Plane) -> float:
 
 def apex_holds(loop: "BoundaryLoop", ends: npt.ArrayLike) -> bool:
     """Whether a loop made earlier still collapses where `triangle_apex` would collapse it now,
-    with the ends (`_stroke_ends`) of the interior strokes there are now (always, for four sides): a loop
-    kept from an earlier build (the progressive path) must be the loop a build from scratch makes."""
-    if not np.allclose(loop.top, loop.top[0]):
+    with the ends (`stroke_end_pairs`) of the interior strokes there are now (always, for four
+    sides): a loop kept from an earlier build (the progressive path) must be the loop a build from
+    scratch makes."""
+    if not loop.triangle:
         return True
     return triangle_apex([loop.bottom, loop.right, loop.left[::-1]], ends) == 1
 
 
-def _stroke_ends(strokes: Sequence[npt.ArrayLike], which: Sequence[int]) -> FloatArray:
+def stroke_end_pairs(strokes: Sequence[npt.ArrayLike], which: Sequence[int]) -> FloatArray:
     """The ends of each stroke in `which`, for triangle_apex: (2k, 2, 3), each end point with the
     stroke's point a tenth of its length inside."""
     out = []
@@ -571,7 +574,7 @@ def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
         pts = [_join([pts[i] for i in g]) for g in groups]
     srcs = [tuple(sorted({int(sources[i]) for i in g})) for g in groups]
     if len(pts) == 3:
-        apex = triangle_apex(pts, _stroke_ends(inside, range(len(inside))))
+        apex = triangle_apex(pts, stroke_end_pairs(inside, range(len(inside))))
         pts, srcs = turn_to_apex(pts, apex), turn_to_apex(srcs, apex)
         notes.append(f"three-sided loop: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         srcs.insert(2, ())

@@ -9,7 +9,7 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-from .boundary import BoundaryLoop, _stroke_ends, apex_holds, boundary_indices, make_boundary
+from .boundary import BoundaryLoop, apex_holds, boundary_indices, make_boundary, stroke_end_pairs
 from .fairing import fair_stroke, stroke_tolerance
 from .network import PatchNetwork
 from .progressive import StrokeRecord, add_stroke
@@ -117,10 +117,10 @@ def _as_drawn(rec: StrokeRecord) -> StrokeRecord:
 
 
 def _ends_of_interior(previous: BuildResult, arrays: list):
-    """The ends (boundary._stroke_ends) of every stroke that is not one of `previous`'s boundary
+    """The ends (boundary.stroke_end_pairs) of every stroke that is not one of `previous`'s boundary
     strokes."""
     chosen = set(range(len(previous.strokes))) - set(previous.interior)
-    return _stroke_ends(arrays, [i for i in range(len(arrays)) if i not in chosen])
+    return stroke_end_pairs(arrays, [i for i in range(len(arrays)) if i not in chosen])
 
 
 def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop, interior: list,

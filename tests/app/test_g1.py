@@ -218,10 +218,8 @@ def test_g1_puts_faces_back_to_g0_where_together_they_would_fold():
     octant, benchmarks.sketches), each G1 face kept within its bound, yet around a 3-sided face
     they met at creases of 168-179 deg that G0 does not have, and the build warned. The faces of
     such a new fold are put back to G0 (cad.shell.keep_no_new_fold), and the report says which."""
-    from types import SimpleNamespace
-
     from benchmarks.sketches import family_specs, make_config
-    from ProgSurf.cad.analysis import folds
+    from ProgSurf.cad.analysis import face_folds, folds
 
     config, seed = {name: (c, k) for name, c, k in family_specs(3, 0)}["octant_2"]
     result = build_network([np.asarray(p) for p in make_config(config, seed, "octant_2").strokes])
@@ -230,14 +228,11 @@ def test_g1_puts_faces_back_to_g0_where_together_they_would_fold():
     assert not folds(g0)
     assert not folds(g1), folds(g1)
     assert g1.g1_reverted, "no face had to go back: the case no longer exercises keep_no_new_fold"
-    # without the put-back, the G1 faces fold (the case is real)
-    raw = dict(zip([f.region_id for f in g1.g0_faces], g1.g0_faces))
-    smooth = [f for f in g1.cache.g1_shapes.values()]
-    by_region = {entry[1].region_id: entry[1] for entry in smooth}
-    raw_faces = tuple(by_region.get(f.region_id, f) for f in g1.g0_faces)
-    assert folds(SimpleNamespace(faces=raw_faces, sharp_edges=g1.sharp_edges))
+    # without the put-back, the G1 faces fold (the case is real): every region's G1 face
+    smooth = {info.region_id: info for _, info in g1.cache.g1_shapes.values()}
+    assert face_folds([smooth.get(f.region_id, f) for f in g1.g0_faces], g1.sharp_edges)
     # the put-back faces are exactly the G0 ones, the others G1
     for f, f0 in zip(g1.faces, g1.g0_faces):
         assert (f is f0) == (f.region_id in g1.g1_reverted)
-    assert set(g1.g1_reverted) <= set(raw)
+    assert set(g1.g1_reverted) <= {f.region_id for f in g1.g0_faces}
     assert cad_g1.bound_summary(g1, result.network)["faces_left_g0_new_fold"] == list(g1.g1_reverted)
