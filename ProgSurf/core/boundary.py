@@ -229,8 +229,9 @@ def triangle_apex(sides: Sequence[npt.ArrayLike], ends: Optional[npt.ArrayLike] 
     By geometry alone, so that neither the order nor the direction in which the sides were drawn
     changes the surface (issue 17). The candidates are the corners within APEX_TIE_DEG of the
     sharpest: a Coons triangle collapsed anywhere else squeezes a sharp corner between a regular
-    bottom and side, and turns over there. Among them, the fewest near misses, then the longest
-    opposite side (by chord). `ends` are the interior strokes' ends, (k, 2, 3): each end point and
+    bottom and side, and turns over there. Among them, the most strokes that end at the corner
+    (within APEX_NEAR of it: the curves of a pole, such as an octant's meridians, meet where the
+    triangle collapses), then the fewest near misses, then the longest opposite side (by chord). `ends` are the interior strokes' ends, (k, 2, 3): each end point and
     a point a little inside its stroke. A near miss is an end that heads for the corner and stops
     near it (closer than APEX_FAR of the longest side) without reaching it: neither within
     APEX_NEAR of it nor aimed at it that closely. Extended to the loop, such a stroke cuts a sliver off the collapsed
@@ -247,7 +248,7 @@ def triangle_apex(sides: Sequence[npt.ArrayLike], ends: Optional[npt.ArrayLike] 
     size = float(chords.max())
     pairs = np.asarray(ends if ends is not None else np.zeros((0, 2, 3)), dtype=float).reshape(-1, 2, 3)
 
-    def near_misses(i: int) -> int:
+    def hits_and_misses(i: int) -> tuple[int, int]:
         corner = pts[i][-1]
         to_corner = corner - pairs[:, 0]
         dist = np.linalg.norm(to_corner, axis=1)
@@ -255,11 +256,12 @@ def triangle_apex(sides: Sequence[npt.ArrayLike], ends: Optional[npt.ArrayLike] 
         out /= np.maximum(np.linalg.norm(out, axis=1), 1e-300)[:, None]
         along = np.einsum("ij,ij->i", to_corner, out)
         miss = np.linalg.norm(to_corner - along[:, None] * out, axis=1)
-        return int(np.sum((along > 0) & (dist < APEX_FAR * size) & (dist > APEX_NEAR * size)
-                          & (miss > APEX_NEAR * size)))
+        hits = int(np.sum(dist <= APEX_NEAR * size))
+        return -hits, int(np.sum((along > 0) & (dist < APEX_FAR * size) & (dist > APEX_NEAR * size)
+                                 & (miss > APEX_NEAR * size)))
 
     # an exact tie (a triangle drawn by a program) keeps the loop's own corner after sides[1]
-    return min(candidates, key=lambda i: (near_misses(i), -opposite[i], i != 1))
+    return min(candidates, key=lambda i: (*hits_and_misses(i), -opposite[i], i != 1))
 
 
 def merge_to_four(sides: Sequence[npt.ArrayLike], plane: Optional[Plane] = None,

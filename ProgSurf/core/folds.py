@@ -29,6 +29,7 @@ SEAM_FOLD_DEG = 55.0
 FACE_TURN_DEG = 85.0
 SEAM_SAMPLES = 9
 FACE_SAMPLES = 9
+FACE_INSET = 0.03
 _STEP = 1e-4
 
 
@@ -128,10 +129,15 @@ def turn_from_mean_deg(normals: FloatArray, ok: np.ndarray) -> float:
 
 
 def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
-    """Local (s, r) of an n x n grid over a region, (n*n,) each."""
-    g = np.linspace(0.0, 1.0, n)
-    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-    return s, r
+    """Local (s, r) over a region, (2*n*n,) each: an n x n grid from side to side, and the n x n
+    grid FACE_INSET in from the sides where the built face's check samples
+    (cad.analysis.face_turn_deg): a tuck narrower than the first grid's step can turn over there
+    (famG octant_8: 72 deg on the sides' grid, 156 deg on the inset one, a fold of the built face)."""
+    out = []
+    for lo in (0.0, FACE_INSET):
+        g = np.linspace(lo, 1.0 - lo, n)
+        out.append([a.ravel() for a in np.meshgrid(g, g, indexing="ij")])
+    return np.concatenate([out[0][0], out[1][0]]), np.concatenate([out[0][1], out[1][1]])
 
 
 def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:

@@ -98,16 +98,87 @@ def trim_ends(net: PatchNetwork, pts: FloatArray, snap: float) -> tuple[FloatArr
     where it meets it, running smoothly into the snap point (run_into). Returns the trimmed points (first and last point on the boundary when
     snapped) and the snaps of the first and last end (None for a free end)."""
     segs = net.edge_segments()
-    firsts = snap_candidates(pts, snap, segs)
+    firsts = _at_apex(net, pts, snap_candidates(pts, snap, segs), snap, segs)
     if firsts:
         pts = run_into(pts, firsts[0][0], firsts[0][3])
-    lasts = snap_candidates(pts[::-1], snap, segs)
+    lasts = _at_apex(net, pts[::-1], snap_candidates(pts[::-1], snap, segs), snap, segs)
     if lasts:
         pts = run_into(pts[::-1], lasts[0][0], lasts[0][3])[::-1]
     if len(pts) < 2 or np.linalg.norm(pts[-1] - pts[0]) < 1e-9 * snap:
         raise StrokeRejectedError("nothing is left of it after trimming its over-sketched ends")
     first, last = _nearest_pair(net, firsts, lasts, pts, snap)
     return pts, first, last
+
+
+APEX_REACH = 1.0
+"""A snap within this many snap distances of a collapsed corner (the degenerate side of a 3-sided
+patch, Fig. 4) is a stroke drawn to that corner: it goes to the collapsed side (:func:`_at_apex`)."""
+
+APEX_AIM = (1.0, 4.0)
+"""The stretch of a stroke, in snap distances along it from where it meets a collapsed corner,
+whose footpoints give the direction it arrives from (:func:`_at_apex`)."""
+
+
+def _collapsed_near(net: PatchNetwork, p: FloatArray, reach: float, segs: EdgeSegments) -> list:
+    """(edge id, edge) of the degenerate edges within reach of p: pieces of the collapsed side of a
+    3-sided patch, one point in 3D and a segment of the pre-image."""
+    a, b, eid = segs[0], segs[1], segs[2]
+    near = np.all(a == b, axis=1) & (np.linalg.norm(a - p, axis=1) <= reach)
+    edges = net.edges()
+    return [(int(k), edges[int(k)]) for k in np.unique(eid[near])
+            if not np.ptp(edges[int(k)].polyline.points, axis=0).max() > 0.0]
+
+
+def _at_apex(net: PatchNetwork, pts: FloatArray, snaps: list, snap: float, segs: EdgeSegments) -> list:
+    """The first end's snaps (snap_candidates), with a snap near a collapsed corner moved onto the
+    collapsed side, where the stroke's own direction meets it in the pre-image.
+
+    Every point of a 3-sided patch's degenerate side is the apex: the curves that run into the apex
+    (the meridians of a pole) meet it along that side, each at its own pre-image point, in the
+    direction they arrive from. A stroke drawn to the apex used to snap to whichever side passes
+    nearest it (a point of a side next to the apex, a pre-image corner), and its pre-image ran
+    diagonally across the patch instead of up to the side, squeezing a sliver that turned over
+    (sketchgen octants: a meridian from the pole rejected as a fold). Here the stroke's footpoints
+    APEX_AIM snap distances in give its pre-image direction; the line through them meets the
+    collapsed side at the parameter the stroke takes. Unchanged when no collapsed side is within
+    APEX_REACH snap distances, or when the line misses it."""
+    if not snaps:
+        return snaps
+    j, _, _, p = snaps[0]
+    near = _collapsed_near(net, p, APEX_REACH * snap, segs)
+    if not near:
+        return snaps
+    run = cumulative_length(pts)
+    h = max(2, len(pts) // 2)
+    pick = np.flatnonzero((run >= run[j] + APEX_AIM[0] * snap) & (run <= run[j] + APEX_AIM[1] * snap))
+    pick = pick[pick < h]
+    if len(pick) < 2:
+        return snaps
+    pick = pick[np.unique(np.linspace(0, len(pick) - 1, min(len(pick), 5)).round().astype(int))]
+    uv = []
+    for i in pick:
+        f = net.footpoint(pts[i], slack=snap)
+        if f.inside:
+            uv.append(f.uv)
+    if len(uv) < 2:
+        return snaps
+    uv = np.array(uv)
+    centre = uv.mean(axis=0)
+    _, _, vt = np.linalg.svd(uv - centre)
+    d = vt[0] if float(vt[0] @ (uv[0] - uv[-1])) >= 0.0 else -vt[0]     # towards the stroke's end
+    best = None
+    for k, e in near:
+        a, b = np.asarray(e.uv0, dtype=float), np.asarray(e.uv1, dtype=float)
+        m = np.column_stack([d, a - b])
+        det = float(np.linalg.det(m))
+        if abs(det) <= 1e-12 * max(float(np.linalg.norm(b - a)), 1e-300):
+            continue
+        lam, t = np.linalg.solve(m, a - centre)
+        if lam > 0.0 and -UV_TIE <= t <= 1.0 + UV_TIE and (best is None or lam < best[0]):
+            best = (float(lam), k, float(np.clip(t, 0.0, 1.0)), e.polyline.points[0])
+    if best is None:
+        return snaps
+    return [(j, best[1], best[2], np.array(best[3], dtype=float))]
 
 
 def _nearest_pair(net: PatchNetwork, firsts: list[Snap], lasts: list[Snap], pts: FloatArray,
