@@ -160,36 +160,49 @@ def _split_few_sides(sides: list) -> list:
     return sides
 
 
-def _inside(points: FloatArray, loop: FloatArray) -> tuple[float, float]:
-    """(fraction of the points inside the loop in its best-fit plane, largest height over that
-    plane as a fraction of the loop's diagonal)."""
-    plane = best_fit_plane(loop)
-    poly = plane.project(loop)
-    q = plane.project(points)
-    x, y = poly[:, 0], poly[:, 1]
-    x2, y2 = np.roll(x, -1), np.roll(y, -1)
-    crosses = ((y[None] > q[:, 1:2]) != (y2[None] > q[:, 1:2])) & (
-        q[:, 0:1] < (x2 - x)[None] * (q[:, 1:2] - y[None]) / np.where(y2 - y == 0, 1e-300, y2 - y)[None] + x[None])
-    inside = crosses.sum(axis=1) % 2 == 1
-    diag = max(float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0))), 1e-300)
-    height = np.abs((points - plane.origin) @ plane.normal).max() / diag
-    return float(inside.mean()), float(height)
+class _Loop:
+    """A chosen cycle's loop in its best-fit plane, found once for every piece tested against it:
+    (n + 1, 3) points (closed), the plane, its polygon there and the loop's diagonal."""
+
+    def __init__(self, loop: FloatArray) -> None:
+        self.plane = best_fit_plane(loop)
+        poly = self.plane.project(loop)
+        self.x, self.y = poly[:, 0], poly[:, 1]
+        self.x2, self.y2 = np.roll(self.x, -1), np.roll(self.y, -1)
+        dy = self.y2 - self.y
+        self.dy = np.where(dy == 0, 1e-300, dy)
+        self.diag = max(float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0))), 1e-300)
+        self.size = float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0)))
+
+    def height(self, points: FloatArray) -> float:
+        """Largest height of the points over the plane as a fraction of the loop's diagonal."""
+        return float(np.abs((points - self.plane.origin) @ self.plane.normal).max() / self.diag)
+
+    def inside(self, points: FloatArray) -> float:
+        """Fraction of the points inside the loop in its plane (even-odd rule)."""
+        q = self.plane.project(points)
+        x, y = self.x, self.y
+        crosses = ((y[None] > q[:, 1:2]) != (self.y2[None] > q[:, 1:2])) & (
+            q[:, 0:1] < (self.x2 - x)[None] * (q[:, 1:2] - y[None]) / self.dy[None] + x[None])
+        return float((crosses.sum(axis=1) % 2 == 1).mean())
 
 
 def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -> dict:
     """cycle index -> [edge ids]: each edge that bounds no chosen cycle goes to the cycle whose
-    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do."""
+    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do.
+    (Each loop's plane is fitted once; a piece too far from a loop's plane is not tested for
+    being inside it.)"""
     bounding = {e for c in choice.cycles for e in c.edge_ids}
-    loops = [np.vstack([p[:-1] for p in c.polylines(graph)]) for c in choice.cycles]
-    sizes = [float(np.linalg.norm(lp.max(axis=0) - lp.min(axis=0))) for lp in loops]
+    loops = [_Loop(np.vstack([p[:-1] for p in c.polylines(graph)])) for c in choice.cycles]
     out: dict = {}
     for e in graph.edges:
         if e.id in bounding:
             continue
         best = None
         for k, loop in enumerate(loops):
-            frac, height = _inside(polylines[e.id], loop)
-            if frac >= INSIDE_FRACTION and height <= INSIDE_HEIGHT and (best is None or sizes[k] < sizes[best]):
+            if best is not None and loop.size >= loops[best].size:
+                continue
+            if loop.height(polylines[e.id]) <= INSIDE_HEIGHT and loop.inside(polylines[e.id]) >= INSIDE_FRACTION:
                 best = k
         if best is not None:
             out.setdefault(best, []).append(e.id)

@@ -192,8 +192,18 @@ class _Candidates:
         self.attach.append(list(attachments))
 
 
-def _bbox_close(a: FloatArray, b: FloatArray, margin: float) -> bool:
-    return bool(np.all(a.min(axis=0) - margin <= b.max(axis=0)) and np.all(b.min(axis=0) - margin <= a.max(axis=0)))
+class _Boxes:
+    """The strokes' bounding boxes, found once, so that the pair tests (two strokes, or a stroke end
+    and a stroke, cannot touch when their boxes lie further apart than the margin) are one
+    vectorised comparison per stroke instead of two box computations per pair."""
+
+    def __init__(self, strokes: list) -> None:
+        self.lo = np.array([s.min(axis=0) for s in strokes]).reshape(-1, 3)
+        self.hi = np.array([s.max(axis=0) for s in strokes]).reshape(-1, 3)
+
+    def close_to(self, lo: FloatArray, hi: FloatArray, margin: float) -> np.ndarray:
+        """(n_strokes,) bool: the strokes whose box comes within `margin` of the box [lo, hi]."""
+        return np.all(lo - margin <= self.hi, axis=1) & np.all(self.lo - margin <= hi, axis=1)
 
 
 def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
@@ -201,11 +211,13 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
     its length (measured at its points and chord midpoints)."""
     merged: dict = {}
     order = sorted(range(len(strokes)), key=lambda i: -lengths[i])
+    boxes = _Boxes(strokes)
     for rank, i in enumerate(order):
         if i in merged:
             continue
+        near = boxes.close_to(boxes.lo[i], boxes.hi[i], delta)
         for j in order[rank + 1:]:
-            if j in merged or not _bbox_close(strokes[i], strokes[j], delta):
+            if j in merged or not near[j]:
                 continue
             pj = strokes[j]
             probe = np.vstack([pj, 0.5 * (pj[1:] + pj[:-1])])
@@ -218,10 +230,12 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
 def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trims: dict) -> None:
     """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring)."""
     cums = [cumulative_length(s) for s in strokes]
+    boxes = _Boxes(strokes)
     for x, i in enumerate(live):
+        near = boxes.close_to(boxes.lo[i], boxes.hi[i], delta)
         for j in live[x + 1:]:
             a, b = strokes[i], strokes[j]
-            if not _bbox_close(a, b, delta):
+            if not near[j]:
                 continue
             dist, s, t = segment_distances(a, b)
             for rows, cols in _components(dist <= delta):
@@ -269,14 +283,14 @@ def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> N
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
     own other end, for a closed stroke) is joined to its nearest point there."""
     reach = PROXIMITY * delta
+    boxes = _Boxes(strokes)
     for i in live:
         total = chord_length(strokes[i])
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
             best = None
+            near = boxes.close_to(p, p, reach)
             for j in live:
-                if j == i:
-                    continue
-                if not _bbox_close(p[None], strokes[j], reach):
+                if j == i or not near[j]:
                     continue
                 d, sj = _nearest_on(p[None], strokes[j])
                 if d[0] <= reach and (best is None or d[0] < best[0]):
