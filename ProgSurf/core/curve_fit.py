@@ -114,7 +114,7 @@ def _samples(t: FloatArray, interior: FloatArray, per_span: int = 4) -> FloatArr
               * (np.arange(1, per_span + 1) / (per_span + 1))[None, :]).ravel()
     extra = np.unique(np.concatenate([0.5 * (t[1:] + t[:-1]), inside]))
     extra = extra[np.concatenate([[True], np.diff(extra) > SAMPLE_MERGE])]
-    at = np.clip(np.searchsorted(t, extra), 1, len(t) - 1)
+    at = np.minimum(np.maximum(np.searchsorted(t, extra), 1), len(t) - 1)
     near = np.minimum(np.abs(extra - t[at - 1]), np.abs(t[at] - extra)) <= SAMPLE_MERGE
     return np.sort(np.concatenate([np.unique(t), extra[~near]]))
 
@@ -231,7 +231,7 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         x = _samples(t, interior)
         at = np.searchsorted(t, x)
         vertex = t[np.minimum(at, len(t) - 1)] == x          # t is sorted: x is a vertex or lies after t[at-1]
-        allow = tol + np.where(vertex, 0.0, sag[np.clip(at - 1, 0, len(sag) - 1)])
+        allow = tol + np.where(vertex, 0.0, sag[np.minimum(np.maximum(at - 1, 0), len(sag) - 1)])
         data = _polyline_at(t, pts, x)
         lam = 1e-8 * len(x)
         end_poles = _end_poles(knots, (fixed_p[0], fixed_p[-1]), derivs)
