@@ -60,6 +60,12 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     (KKT); a and c are basis matrices at the data and the fixed parameters; `end_poles`
     {index: pole} are given. exact False: a faster solve (LU, 5x), for the refinement rounds
     that only decide where knots go."""
+    return _solve_system(_kkt_system(a, c, pts, fixed_p, lam, end_poles), exact)
+
+
+def _kkt_system(a, c, pts, fixed_p, lam, end_poles=None) -> tuple:
+    """The KKT system of _solve, made once for both of its solves: (kkt, rhs, given poles, free
+    mask, constraint matrix on the free poles)."""
     n = a.shape[1]
     d = _second_differences(n)
     known = np.zeros((n, 3))
@@ -78,6 +84,13 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     kkt[:m, m:] = c.T
     kkt[m:, :m] = c
     rhs = np.vstack([2.0 * (a.T @ pts + lam * d.T @ smooth), fixed_p])
+    return kkt, rhs, known, free, c
+
+
+def _solve_system(system: tuple, exact: bool):
+    """The poles of a _kkt_system (see _solve for `exact`)."""
+    kkt, rhs, known, free, c = system
+    k = c.shape[0]
     if exact or (k and np.linalg.matrix_rank(c) < k):
         # minimum-norm least squares: with more nodes in one knot span than it has poles the
         # system is singular, and this is the solution the knot refinement recovers from (LU on
@@ -89,6 +102,7 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
             sol = np.linalg.solve(kkt, rhs)
         except np.linalg.LinAlgError:
             sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
+    known = known.copy()
     known[free] = sol[:free.sum()]
     return known
 
@@ -244,8 +258,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         # not pull the curve off the vertices (equal weights crowded knots: 43 poles for 15 points)
         w = tol / allow
         last = (knots, a * w[:, None], c, data * w[:, None], lam, end_poles)
+        system = _kkt_system(last[1], c, last[3], fixed_p, lam, end_poles)
         for exact in (False, True):   # the fast solve finds the knots, least squares the result
-            poles = _solve(a * w[:, None], c, data * w[:, None], fixed_p, lam, end_poles, exact)
+            poles = _solve_system(system, exact)
             res = np.linalg.norm(a @ poles - data, axis=1)
             fres = np.linalg.norm(c @ poles - fixed_p, axis=1)
             if not (np.all(res <= allow) and fres.max() <= 1e-9 * scale):

@@ -167,14 +167,15 @@ def _components(mask: np.ndarray) -> list:
     return out
 
 
-def _nearest_on(points: FloatArray, poly: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Distance of each point (k, 3) to a polyline and the arc length of its footpoint: (k,), (k,)."""
+def _nearest_on(points: FloatArray, poly: FloatArray, cum: FloatArray | None = None) -> tuple[FloatArray, FloatArray]:
+    """Distance of each point (k, 3) to a polyline and the arc length of its footpoint: (k,), (k,).
+    cum: cumulative_length(poly), when the caller has it already."""
     a, ab = poly[:-1], np.diff(poly, axis=0)
     ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
     w = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
     d = np.linalg.norm(a[None] + w[..., None] * ab[None] - points[:, None, :], axis=2)
     j = d.argmin(axis=1)
-    cum = cumulative_length(poly)
+    cum = cumulative_length(poly) if cum is None else cum
     seg = np.sqrt(ll)
     k = np.arange(len(points))
     return d[k, j], cum[j] + w[k, j] * seg[j]
@@ -221,6 +222,12 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
                 continue
             pj = strokes[j]
             probe = np.vstack([pj, 0.5 * (pj[1:] + pj[:-1])])
+            # a probe outside stroke i's box grown by delta is further than delta from it: when
+            # too few lie inside, the distances cannot reach the cover (the margin covers round-off)
+            reach = delta * (1.0 + 1e-9)
+            inbox = np.all((probe >= boxes.lo[i] - reach) & (probe <= boxes.hi[i] + reach), axis=1)
+            if np.mean(inbox) < OVERSKETCH_COVER:
+                continue
             d, _ = _nearest_on(probe, strokes[i])
             if np.mean(d <= delta) >= OVERSKETCH_COVER:
                 merged[j] = i
@@ -250,8 +257,8 @@ def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trim
                     # a run along the other stroke: trim the stroke whose end lies in the run
                     _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes)
                     continue
-                pa = point_at_length(a, sa)
-                pb = point_at_length(b, sb)
+                pa = point_at_length(a, sa, cums[i])
+                pb = point_at_length(b, sb, cums[j])
                 cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
 
 
@@ -267,16 +274,18 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: _Candi
             at_start = lo <= 1e-9 * total
             keep_from = hi if at_start else lo
             trims.setdefault(me, []).append((at_start, keep_from))
-            p = point_at_length(strokes[me], keep_from)
-            d, s_other = _nearest_on(p[None], strokes[other])
-            cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0])), [(me, keep_from), (other, s_other[0])])
+            p = point_at_length(strokes[me], keep_from, cum)
+            d, s_other = _nearest_on(p[None], strokes[other], cums[other])
+            cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0], cums[other])),
+                      [(me, keep_from), (other, s_other[0])])
             return
     # a run in the middle of both: they touch along it; one node at its middle
     k = len(rows) // 2
     r, c = rows[k], cols[k]
     sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
     sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
-    cands.add(0.5 * (point_at_length(strokes[i], sa) + point_at_length(strokes[j], sb)), [(i, sa), (j, sb)])
+    cands.add(0.5 * (point_at_length(strokes[i], sa, cums[i]) + point_at_length(strokes[j], sb, cums[j])),
+              [(i, sa), (j, sb)])
 
 
 def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> None:
@@ -284,6 +293,7 @@ def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> N
     own other end, for a closed stroke) is joined to its nearest point there."""
     reach = PROXIMITY * delta
     boxes = _Boxes(strokes)
+    cums = {i: cumulative_length(strokes[i]) for i in live}
     for i in live:
         total = chord_length(strokes[i])
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
@@ -292,12 +302,12 @@ def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> N
             for j in live:
                 if j == i or not near[j]:
                     continue
-                d, sj = _nearest_on(p[None], strokes[j])
+                d, sj = _nearest_on(p[None], strokes[j], cums[j])
                 if d[0] <= reach and (best is None or d[0] < best[0]):
                     best = (d[0], j, sj[0])
             if best is not None:
                 _, j, sj = best
-                cands.add(0.5 * (p + point_at_length(strokes[j], sj)), [(i, s_end), (j, sj)])
+                cands.add(0.5 * (p + point_at_length(strokes[j], sj, cums[j])), [(i, s_end), (j, sj)])
         if total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach:
             cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
 
