@@ -194,14 +194,15 @@ def surface_key(sides: list, interior: list, tol: Tolerances) -> bytes:
 def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache] = None) -> list:
     """Each filtered stroke faired once (core.fairing), as the pipeline fairs an interior stroke."""
     out = []
+    params = repr((tol.fit_mm, tol.fair_mm, tol.snap_mm, tol.sag_mm))
     for pts in filtered:
-        key = content_key(repr((tol.fit_mm, tol.fair_mm, tol.snap_mm, tol.sag_mm)), pts) if cache else None
-        done = cache.lookup("faired", key) if cache else None
+        key = content_key(params, pts) if cache is not None else None
+        done = cache.lookup("faired", key) if cache is not None else None
         if done is None:
             pts = round_points(pts, tol.fit_mm)
             ftol = stroke_tolerance(pts, tol.fair_mm, tol.snap_mm)
             done = fair_stroke(pts, ftol, tol.sag_mm)[0] if len(pts) >= 2 else pts
-        if cache:
+        if cache is not None:
             cache.store("faired", key, done)
         out.append(done)
     return out
@@ -243,8 +244,9 @@ def _split_few_sides(sides: list) -> list:
 
 
 class _Loop:
-    """A chosen cycle's loop in its best-fit plane, found once for every piece tested against it:
-    (n + 1, 3) points (closed), the plane, its polygon there and the loop's diagonal."""
+    """A chosen cycle's loop in its best-fit plane, found once for every piece tested against it.
+    loop : (n, 3) its points in order (each side without its last point); kept: the plane, the
+    loop's polygon there, its diagonal (`diag`, at least 1e-300, and `size`)."""
 
     def __init__(self, loop: FloatArray) -> None:
         self.plane = best_fit_plane(loop)
