@@ -55,12 +55,15 @@ RESULTS = (
 class NetworkProxy(FeatureProxy):
     """Proxy of a Part::FeaturePython surface network. Saved state: a tiny JSON-safe dict.
 
-    The last ObjectOutcome is kept on the proxy (transient) for ``network_report``."""
+    The last ObjectOutcome is kept on the proxy (transient) for ``network_report``, and so is a
+    core.objects.BuildCache of the last builds: a recompute after one stroke moved rebuilds only the
+    surfaces whose strokes changed (the outcome's ``build.rebuilt``)."""
 
     PROXY_TYPE = TYPE
 
     def __init__(self, obj) -> None:
         self.outcome = None
+        self.cache = None
         super().__init__(obj)
 
     def setup(self, obj) -> None:
@@ -87,12 +90,14 @@ class NetworkProxy(FeatureProxy):
             add_property(obj, kind, name, "Result", doc, PROP_OUTPUT, read_only=True)
 
     def tolerances(self, obj) -> Tolerances:
-        """The object's tolerances as the core's one Tolerances value (0 -> automatic)."""
+        """The object's tolerances as the core's one Tolerances value (0 -> automatic; execute
+        resolves automatic ones rounded to core.objects.STEADY_DIGITS significant digits)."""
         return Tolerances(filter_mm=obj.FilterThreshold or None, snap_mm=obj.SnapTolerance or None,
                           fit_mm=obj.FitTolerance or None)
 
     def execute(self, obj) -> None:
         from ProgSurf.app.objects import build_object_and_measure  # heavy: loaded on first recompute
+        from ProgSurf.core.objects import BuildCache, steady_tolerances
 
         strokes = list(obj.Strokes)
         active = FreeCAD.ActiveDocument
@@ -104,8 +109,12 @@ class NetworkProxy(FeatureProxy):
             if not strokes:
                 raise ProgSurfError("no strokes linked; a network needs strokes that meet around "
                                     "each surface")
-            outcome = build_object_and_measure([stroke_object.stroke_points(s) for s in strokes],
-                                               self.tolerances(obj), continuity=obj.Continuity)
+            if getattr(self, "cache", None) is None:
+                self.cache = BuildCache()
+            points = [stroke_object.stroke_points(s) for s in strokes]
+            # automatic tolerances rounded, so that an edit keeps the surfaces it does not touch
+            outcome = build_object_and_measure(points, steady_tolerances(points, self.tolerances(obj)),
+                                               continuity=obj.Continuity, cache=self.cache)
         except (ProgSurfError, Part.OCCError) as exc:
             obj.LastError = failure_message(obj, exc)
             FreeCAD.Console.PrintError(f"ProgSurf: {obj.LastError}\n")
@@ -117,7 +126,8 @@ class NetworkProxy(FeatureProxy):
                 FreeCAD.setActiveDocument(active.Name)
         self.outcome = outcome
         write_results(obj, outcome)
-        FreeCAD.Console.PrintMessage(f"ProgSurf: {obj.Label}: {summary(obj)}\n")
+        FreeCAD.Console.PrintMessage(f"ProgSurf: {obj.Label}: {summary(obj)}; {len(outcome.build.rebuilt)} "
+                                     f"of {len(outcome.build.surfaces)} surface(s) built, the others kept\n")
         for line in obj.StrokeAccounting:
             if ": unused: " in line:
                 FreeCAD.Console.PrintWarning(f"ProgSurf: {obj.Label}: {line}\n")
@@ -126,10 +136,12 @@ class NetworkProxy(FeatureProxy):
 
     def onDocumentRestored(self, obj) -> None:
         self.outcome = None
+        self.cache = None
         super().onDocumentRestored(obj)
 
     def __setstate__(self, state) -> None:
         self.outcome = None
+        self.cache = None
 
 
 def write_results(obj, outcome) -> None:

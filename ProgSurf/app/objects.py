@@ -19,8 +19,9 @@ import numpy as np
 
 from ProgSurf.cad import analysis as cad_analysis
 from ProgSurf.cad.object_shell import ObjectShell, build_object_shell
+from ProgSurf.core.blas import one_blas_thread
 from ProgSurf.core.errors import ProgSurfError
-from ProgSurf.core.objects import ObjectBuild, build_object
+from ProgSurf.core.objects import BuildCache, ObjectBuild, build_object
 from ProgSurf.core.types import Tolerances
 
 from .build import FIT_GRID
@@ -68,21 +69,37 @@ class ObjectOutcome:
 
 
 def build_object_and_measure(strokes: Sequence[np.ndarray], tol: Tolerances = Tolerances(), *,
-                             continuity: str = "G0", network=None) -> ObjectOutcome:
+                             continuity: str = "G0", network=None, cache: BuildCache | None = None) -> ObjectOutcome:
     """Every surface of the sketch's stroke network, sewn and measured (module docstring).
     network: core.objects.stroke_network's result for these strokes, to reuse.
+    cache: a core.objects.BuildCache of earlier builds (keep one per edited sketch, e.g. on a
+    document object): a surface whose inputs did not change keeps its core result, its faces and
+    their fit deviation (ObjectBuild.rebuilt names the surfaces built again); the sewing and the
+    shell measures are always done again. The result is the one a build without it gives.
     Raises ProgSurfError (no loop of curves, bad input) or Part.OCCError."""
-    build = build_object([np.asarray(s, dtype=float) for s in strokes], tol, network=network)
+    with one_blas_thread():
+        return _build_and_measure(strokes, tol, continuity, network, cache)
+
+
+def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache) -> ObjectOutcome:
+    build = build_object([np.asarray(s, dtype=float) for s in strokes], tol, network=network, cache=cache)
     if not build.surfaces:
         raise ProgSurfError(f"none of the {len(build.failed)} loops of curves made a surface; first: "
                             f"{build.failed[0][1]}")
     timings = dict(build.timings_s)
-    model = build_object_shell([s.result for s in build.surfaces], build.tol, continuity)
+    # a surface's faces and fit deviation depend on its core result (its key) and the continuity
+    keys = [(surf.key, continuity) for surf in build.surfaces]
+    kept = [cache.lookup("cad surface", k) if cache is not None else None for k in keys]
+    model = build_object_shell([s.result for s in build.surfaces], build.tol, continuity,
+                               built=[k[0] if k else None for k in kept])
     timings.update({f"cad {k}": v for k, v in model.timings_s.items()})
     clock = time.perf_counter()
-    fits = tuple(max(cad_analysis.fit_deviation(shell_result, surf.result.network, n=FIT_GRID).values(),
-                     default=0.0)
-                 for shell_result, surf in zip(model.surfaces, build.surfaces))
+    fits = tuple(k[1] if k else max(cad_analysis.fit_deviation(shell_result, surf.result.network, n=FIT_GRID).values(),
+                                    default=0.0)
+                 for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces))
+    if cache is not None:
+        for key, shell_result, fit in zip(keys, model.surfaces, fits):
+            cache.store("cad surface", key, (shell_result, fit))
     shells = []
     for s in model.shells:
         info = cad_analysis.shell_seam_gaps(s)

@@ -95,11 +95,14 @@ def sew_at(faces: list, tolerance: float):
     return shape
 
 
-def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0") -> ObjectShell:
+def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", built=None) -> ObjectShell:
     """Every surface's faces (cad.shell.build_shell of each BuildResult's network), sewn into
-    one shell per connected part at OBJECT_SEW_FRACTION of the fit tolerance."""
+    one shell per connected part at OBJECT_SEW_FRACTION of the fit tolerance.
+    built: per result, its ShellResult made earlier (with this continuity) to take as it is, or
+    None to build it (app.objects keeps them for an edited sketch)."""
     clock = time.perf_counter()
-    built = [build_shell(r.network, r.tol, continuity=continuity) for r in results]
+    built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity)
+             for r, b in zip(results, built or [None] * len(results))]
     t_surfaces = time.perf_counter() - clock
     clock = time.perf_counter()
     faces = [info.face for res in built for info in res.faces]

@@ -13,15 +13,22 @@ def basis_matrix(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> Floa
     """B-spline basis N_j(t_i), (m, n_poles), for a clamped full knot vector on [0, 1]: the degree+1
     basis functions that are non-zero in each point's knot span (Piegl & Tiller A2.2, vectorised
     over the points), scattered into a dense matrix."""
-    return basis_matrices(knots, t, degree)[0]
+    return _basis(knots, t, degree, False)[0]
 
 
 def basis_matrices(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> tuple[FloatArray, FloatArray]:
     """(basis_matrix(knots, t, degree), basis_matrix(knots[1:-1], t, degree - 1)) in one pass: the
     lower-degree functions are the intermediate values of the same recursion. The second is the
     basis of a derivative's poles (a first derivative has degree - 1 on knots[1:-1])."""
+    return _basis(knots, t, degree, True)
+
+
+def _basis(knots: FloatArray, t: FloatArray, degree: int, with_lower: bool) -> tuple:
+    """basis_matrices; the lower-degree matrix only when asked for (else None): basis_matrix is
+    called thousands of times by the knot refinement of core.curve_fit."""
     knots = np.asarray(knots, dtype=float)
-    t = np.clip(np.ravel(np.asarray(t, dtype=float)), knots[0], knots[-1])
+    # np.minimum/np.maximum: np.clip's same values, without its per-call checks
+    t = np.minimum(np.maximum(np.ravel(np.asarray(t, dtype=float)), knots[0]), knots[-1])
     m, n = len(t), len(knots) - degree - 1
     # the half-open span containing t; the last point belongs to the last non-empty span
     last = np.max(np.nonzero(knots[1:] > knots[:-1])[0])
@@ -31,9 +38,9 @@ def basis_matrices(knots: FloatArray, t: FloatArray, degree: int = DEGREE) -> tu
     left = np.zeros((m, degree + 1))
     right = np.zeros((m, degree + 1))
     rows = np.arange(m)[:, None]
-    lower = np.zeros((m, max(n - 1, 0)))
+    lower = np.zeros((m, max(n - 1, 0))) if with_lower else None
     for j in range(1, degree + 1):
-        if j == degree and n > 1:
+        if with_lower and j == degree and n > 1:
             # degree - 1 functions N_{span-degree+1 .. span} on knots = indices - 1 on knots[1:-1]
             lower[rows, span[:, None] - degree + np.arange(degree)] = local[:, :degree]
         left[:, j] = t - knots[span + 1 - j]

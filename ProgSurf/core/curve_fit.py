@@ -60,6 +60,12 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     (KKT); a and c are basis matrices at the data and the fixed parameters; `end_poles`
     {index: pole} are given. exact False: a faster solve (LU, 5x), for the refinement rounds
     that only decide where knots go."""
+    return _solve_system(_kkt_system(a, c, pts, fixed_p, lam, end_poles), exact)
+
+
+def _kkt_system(a, c, pts, fixed_p, lam, end_poles=None) -> tuple:
+    """The KKT system of _solve, made once for both of its solves: (kkt, rhs, given poles, free
+    mask, constraint matrix on the free poles)."""
     n = a.shape[1]
     d = _second_differences(n)
     known = np.zeros((n, 3))
@@ -78,6 +84,13 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
     kkt[:m, m:] = c.T
     kkt[m:, :m] = c
     rhs = np.vstack([2.0 * (a.T @ pts + lam * d.T @ smooth), fixed_p])
+    return kkt, rhs, known, free, c
+
+
+def _solve_system(system: tuple, exact: bool):
+    """The poles of a _kkt_system (see _solve for `exact`)."""
+    kkt, rhs, known, free, c = system
+    k = c.shape[0]
     if exact or (k and np.linalg.matrix_rank(c) < k):
         # minimum-norm least squares: with more nodes in one knot span than it has poles the
         # system is singular, and this is the solution the knot refinement recovers from (LU on
@@ -89,6 +102,7 @@ def _solve(a, c, pts, fixed_p, lam, end_poles=None, exact: bool = True):
             sol = np.linalg.solve(kkt, rhs)
         except np.linalg.LinAlgError:
             sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
+    known = known.copy()
     known[free] = sol[:free.sum()]
     return known
 
@@ -114,7 +128,7 @@ def _samples(t: FloatArray, interior: FloatArray, per_span: int = 4) -> FloatArr
               * (np.arange(1, per_span + 1) / (per_span + 1))[None, :]).ravel()
     extra = np.unique(np.concatenate([0.5 * (t[1:] + t[:-1]), inside]))
     extra = extra[np.concatenate([[True], np.diff(extra) > SAMPLE_MERGE])]
-    at = np.clip(np.searchsorted(t, extra), 1, len(t) - 1)
+    at = np.minimum(np.maximum(np.searchsorted(t, extra), 1), len(t) - 1)
     near = np.minimum(np.abs(extra - t[at - 1]), np.abs(t[at] - extra)) <= SAMPLE_MERGE
     return np.sort(np.concatenate([np.unique(t), extra[~near]]))
 
@@ -231,7 +245,7 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         x = _samples(t, interior)
         at = np.searchsorted(t, x)
         vertex = t[np.minimum(at, len(t) - 1)] == x          # t is sorted: x is a vertex or lies after t[at-1]
-        allow = tol + np.where(vertex, 0.0, sag[np.clip(at - 1, 0, len(sag) - 1)])
+        allow = tol + np.where(vertex, 0.0, sag[np.minimum(np.maximum(at - 1, 0), len(sag) - 1)])
         data = _polyline_at(t, pts, x)
         lam = 1e-8 * len(x)
         end_poles = _end_poles(knots, (fixed_p[0], fixed_p[-1]), derivs)
@@ -244,8 +258,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
         # not pull the curve off the vertices (equal weights crowded knots: 43 poles for 15 points)
         w = tol / allow
         last = (knots, a * w[:, None], c, data * w[:, None], lam, end_poles)
+        system = _kkt_system(last[1], c, last[3], fixed_p, lam, end_poles)
         for exact in (False, True):   # the fast solve finds the knots, least squares the result
-            poles = _solve(a * w[:, None], c, data * w[:, None], fixed_p, lam, end_poles, exact)
+            poles = _solve_system(system, exact)
             res = np.linalg.norm(a @ poles - data, axis=1)
             fres = np.linalg.norm(c @ poles - fixed_p, axis=1)
             if not (np.all(res <= allow) and fres.max() <= 1e-9 * scale):

@@ -17,6 +17,7 @@ an interior stroke of, or why it is unused.
 """
 from __future__ import annotations
 
+import hashlib
 import time
 from dataclasses import dataclass, field, replace
 from typing import Optional, Sequence
@@ -85,6 +86,9 @@ class ObjectSurface:
     sides    : the graph edge ids of its sides, in loop order
     interior : the graph edge ids added as interior strokes (dangling pieces inside it)
     part     : the connected part of the network it belongs to
+    key      : digest of everything `result` depends on (surface_key): its side and interior
+               polylines and the tolerances it was built with
+    reused   : True when `result` was taken from a BuildCache (an earlier build had the same key)
     """
 
     cycle: Cycle
@@ -92,6 +96,8 @@ class ObjectSurface:
     sides: tuple
     interior: tuple
     part: int
+    key: bytes = b""
+    reused: bool = False
 
 
 @dataclass(frozen=True)
@@ -114,14 +120,91 @@ class ObjectBuild:
     tol: Tolerances
     timings_s: dict = field(default_factory=dict)
 
+    @property
+    def rebuilt(self) -> tuple:
+        """Indices (into surfaces) of the surfaces this build made; the others came from a cache."""
+        return tuple(k for k, s in enumerate(self.surfaces) if not s.reused)
 
-def _faired_strokes(filtered: list, tol: Tolerances) -> list:
+
+class BuildCache:
+    """What earlier whole-object builds made, for the next build of an edited sketch to reuse
+    (issue 18: adding or moving one stroke rebuilds only the surfaces it touches).
+
+    Every entry is keyed by a digest of the exact input it was made from (the points' bytes and the
+    tolerances), never by a name or a position in a list: a surface whose side and interior
+    polylines and tolerances are unchanged is taken as it was; any change to them, or to an option
+    that reaches them (the tolerances, resolved from the whole sketch), makes a new key and so a
+    new build. A key is a function of the whole input, so a reused result is the result a build
+    from scratch makes.
+
+    Entries are grouped by kind: "faired" (a filtered stroke -> its faired points), "surface" (a
+    surface key -> its BuildResult, or the reason it failed); callers above the core add their own
+    kinds (app.objects: the CAD faces of a surface). Each build keeps the entries it used or made,
+    and those of the GENERATIONS builds before it (`start` moves them back one generation), so an
+    undo (the strokes of two builds ago) finds its surfaces too, while the cache does not grow with
+    every edit."""
+
+    GENERATIONS = 2
+
+    def __init__(self) -> None:
+        self.entries: dict = {}
+        self.older: list = []
+
+    def start(self) -> None:
+        """Begin a new build: this build's entries become the newest older generation."""
+        if self.entries:
+            self.older = [self.entries] + self.older[:self.GENERATIONS - 1]
+            self.entries = {}
+
+    def lookup(self, kind: str, key):
+        """The entry of `kind` and `key` from this build or the ones before (then moved to this
+        build's generation), or None."""
+        k = (kind, key)
+        if k in self.entries:
+            return self.entries[k]
+        for generation in self.older:
+            if k in generation:
+                self.entries[k] = generation[k]
+                return self.entries[k]
+        return None
+
+    def store(self, kind: str, key, value) -> None:
+        self.entries[(kind, key)] = value
+
+
+def content_key(*parts) -> bytes:
+    """A digest of arrays (their shape and float64 bytes) and strings (their text), in order."""
+    h = hashlib.blake2b(digest_size=20)
+    for p in parts:
+        if isinstance(p, str):
+            h.update(b"s" + p.encode())
+        else:
+            a = np.ascontiguousarray(p, dtype=float)
+            h.update(b"a" + repr(a.shape).encode() + a.tobytes())
+        h.update(b"|")
+    return h.digest()
+
+
+def surface_key(sides: list, interior: list, tol: Tolerances) -> bytes:
+    """What one surface's BuildResult depends on: its sides' and interior pieces' polylines (in
+    order) and the tolerances its pipeline runs with."""
+    return content_key(repr(tol), f"{len(sides)} sides", *sides, f"{len(interior)} interior", *interior)
+
+
+def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache] = None) -> list:
     """Each filtered stroke faired once (core.fairing), as the pipeline fairs an interior stroke."""
     out = []
+    params = repr((tol.fit_mm, tol.fair_mm, tol.snap_mm, tol.sag_mm))
     for pts in filtered:
-        pts = round_points(pts, tol.fit_mm)
-        ftol = stroke_tolerance(pts, tol.fair_mm, tol.snap_mm)
-        out.append(fair_stroke(pts, ftol, tol.sag_mm)[0] if len(pts) >= 2 else pts)
+        key = content_key(params, pts) if cache is not None else None
+        done = cache.lookup("faired", key) if cache is not None else None
+        if done is None:
+            pts = round_points(pts, tol.fit_mm)
+            ftol = stroke_tolerance(pts, tol.fair_mm, tol.snap_mm)
+            done = fair_stroke(pts, ftol, tol.sag_mm)[0] if len(pts) >= 2 else pts
+        if cache is not None:
+            cache.store("faired", key, done)
+        out.append(done)
     return out
 
 
@@ -160,36 +243,50 @@ def _split_few_sides(sides: list) -> list:
     return sides
 
 
-def _inside(points: FloatArray, loop: FloatArray) -> tuple[float, float]:
-    """(fraction of the points inside the loop in its best-fit plane, largest height over that
-    plane as a fraction of the loop's diagonal)."""
-    plane = best_fit_plane(loop)
-    poly = plane.project(loop)
-    q = plane.project(points)
-    x, y = poly[:, 0], poly[:, 1]
-    x2, y2 = np.roll(x, -1), np.roll(y, -1)
-    crosses = ((y[None] > q[:, 1:2]) != (y2[None] > q[:, 1:2])) & (
-        q[:, 0:1] < (x2 - x)[None] * (q[:, 1:2] - y[None]) / np.where(y2 - y == 0, 1e-300, y2 - y)[None] + x[None])
-    inside = crosses.sum(axis=1) % 2 == 1
-    diag = max(float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0))), 1e-300)
-    height = np.abs((points - plane.origin) @ plane.normal).max() / diag
-    return float(inside.mean()), float(height)
+class _Loop:
+    """A chosen cycle's loop in its best-fit plane, found once for every piece tested against it.
+    loop : (n, 3) its points in order (each side without its last point); kept: the plane, the
+    loop's polygon there, its diagonal (`diag`, at least 1e-300, and `size`)."""
+
+    def __init__(self, loop: FloatArray) -> None:
+        self.plane = best_fit_plane(loop)
+        poly = self.plane.project(loop)
+        self.x, self.y = poly[:, 0], poly[:, 1]
+        self.x2, self.y2 = np.roll(self.x, -1), np.roll(self.y, -1)
+        dy = self.y2 - self.y
+        self.dy = np.where(dy == 0, 1e-300, dy)
+        self.diag = max(float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0))), 1e-300)
+        self.size = float(np.linalg.norm(loop.max(axis=0) - loop.min(axis=0)))
+
+    def height(self, points: FloatArray) -> float:
+        """Largest height of the points over the plane as a fraction of the loop's diagonal."""
+        return float(np.abs((points - self.plane.origin) @ self.plane.normal).max() / self.diag)
+
+    def inside(self, points: FloatArray) -> float:
+        """Fraction of the points inside the loop in its plane (even-odd rule)."""
+        q = self.plane.project(points)
+        x, y = self.x, self.y
+        crosses = ((y[None] > q[:, 1:2]) != (self.y2[None] > q[:, 1:2])) & (
+            q[:, 0:1] < (self.x2 - x)[None] * (q[:, 1:2] - y[None]) / self.dy[None] + x[None])
+        return float((crosses.sum(axis=1) % 2 == 1).mean())
 
 
 def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -> dict:
     """cycle index -> [edge ids]: each edge that bounds no chosen cycle goes to the cycle whose
-    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do."""
+    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do.
+    (Each loop's plane is fitted once; a piece too far from a loop's plane is not tested for
+    being inside it.)"""
     bounding = {e for c in choice.cycles for e in c.edge_ids}
-    loops = [np.vstack([p[:-1] for p in c.polylines(graph)]) for c in choice.cycles]
-    sizes = [float(np.linalg.norm(lp.max(axis=0) - lp.min(axis=0))) for lp in loops]
+    loops = [_Loop(np.vstack([p[:-1] for p in c.polylines(graph)])) for c in choice.cycles]
     out: dict = {}
     for e in graph.edges:
         if e.id in bounding:
             continue
         best = None
         for k, loop in enumerate(loops):
-            frac, height = _inside(polylines[e.id], loop)
-            if frac >= INSIDE_FRACTION and height <= INSIDE_HEIGHT and (best is None or sizes[k] < sizes[best]):
+            if best is not None and loop.size >= loops[best].size:
+                continue
+            if loop.height(polylines[e.id]) <= INSIDE_HEIGHT and loop.inside(polylines[e.id]) >= INSIDE_FRACTION:
                 best = k
         if best is not None:
             out.setdefault(best, []).append(e.id)
@@ -210,18 +307,23 @@ def choose_mode(choice: CycleChoice) -> str:
 
 
 def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(),
-                 network: Optional[tuple] = None) -> ObjectBuild:
+                 network: Optional[tuple] = None, cache: Optional[BuildCache] = None) -> ObjectBuild:
     """Every surface the stroke network bounds, each through the progressive pipeline.
 
     strokes : (n_i, 3) point arrays in mm, in drawing order
     network : (StrokeGraph, CycleChoice, tol) made by `stroke_network` for these strokes, to
               reuse; None = make them here
+    cache   : a BuildCache of earlier builds (of this or another sketch): a surface whose inputs
+              are unchanged is taken from it (ObjectSurface.reused), and a stroke faired before is
+              not faired again; this build's results are stored in it for the next
     A cycle the pipeline cannot make a surface of is recorded in `failed` with the reason; a
     sketch with no cycle at all raises a ProgSurfError naming why."""
     timings: dict = {}
     clock = time.perf_counter()
+    if cache is not None:
+        cache.start()
     graph, choice, tol = network if network is not None else stroke_network(strokes, tol)
-    faired = _faired_strokes(list(graph.strokes), tol)
+    faired = _faired_strokes(list(graph.strokes), tol, cache)
     polylines = edge_polylines(graph, faired)
     timings["graph"] = time.perf_counter() - clock
     if not choice.cycles:
@@ -238,15 +340,23 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     for k, cycle in enumerate(choice.cycles):
         sides = _split_few_sides(cycle.polylines_from(polylines))
         inside = interior.get(k, [])
-        try:
-            loop = boundary_from_sides(sides, list(range(len(sides))), [polylines[e] for e in inside])
-            result = build_network(sides + [polylines[e] for e in inside], boundary=list(range(len(sides))),
-                                   tol=inner_tol, loop=loop)
-        except ProgSurfError as exc:
-            failed.append((cycle, str(exc)))
+        inner = [polylines[e] for e in inside]
+        key = surface_key(sides, inner, inner_tol)
+        done = cache.lookup("surface", key) if cache is not None else None
+        reused = done is not None
+        if done is None:
+            try:
+                loop = boundary_from_sides(sides, list(range(len(sides))), inner)
+                done = build_network(sides + inner, boundary=list(range(len(sides))), tol=inner_tol, loop=loop)
+            except ProgSurfError as exc:
+                done = str(exc)
+        if cache is not None:
+            cache.store("surface", key, done)
+        if isinstance(done, str):
+            failed.append((cycle, done))
             continue
-        surfaces.append(ObjectSurface(cycle, result, tuple(e for e, _ in cycle.sides), tuple(inside),
-                                      part_of[cycle.sides[0][0]]))
+        surfaces.append(ObjectSurface(cycle, done, tuple(e for e, _ in cycle.sides), tuple(inside),
+                                      part_of[cycle.sides[0][0]], key, reused))
     timings["surfaces"] = time.perf_counter() - clock
     return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed),
                        tol, timings)
@@ -263,6 +373,34 @@ def stroke_network(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerance
     filtered = [filter_stroke(a, tol.filter_mm) for a in arrays]
     graph = build_stroke_graph(filtered, tol.snap_mm)
     return graph, find_cycles(graph), tol
+
+
+STEADY_DIGITS = 3
+"""steady_tolerances rounds the automatic tolerances to this many significant digits."""
+
+
+def steady_tolerances(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(),
+                      digits: int = STEADY_DIGITS) -> Tolerances:
+    """`tol` with its automatic (None) filter, snap and fit distances resolved from the sketch
+    (core.pipeline.resolve_tolerances) and rounded to `digits` significant digits; given values
+    are kept as they are.
+
+    Why: the automatic values follow the sketch's diagonal in its principal axes and its median
+    stroke length, which any edit changes in the last bits; every surface depends on them, so an
+    edited sketch with exact automatic tolerances rebuilds every surface (BuildCache finds none
+    unchanged). Rounded, they stay put unless the edit changes the sketch's size by about 10^-digits,
+    and an edited document object (app.network_object) rebuilds only the surfaces its edit touches.
+    """
+    arrays = [validate_stroke(s, i) for i, s in enumerate(strokes)]
+    if not arrays:
+        raise ProgSurfError("no strokes given; a network needs at least one stroke")
+    full = resolve_tolerances(arrays, tol)
+
+    def steady(given, value):
+        return given if given is not None else float(f"{value:.{digits - 1}e}")
+
+    return replace(tol, filter_mm=steady(tol.filter_mm, full.filter_mm), snap_mm=steady(tol.snap_mm, full.snap_mm),
+                   fit_mm=steady(tol.fit_mm, full.fit_mm))
 
 
 def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list) -> tuple:

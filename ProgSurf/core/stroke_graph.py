@@ -167,14 +167,15 @@ def _components(mask: np.ndarray) -> list:
     return out
 
 
-def _nearest_on(points: FloatArray, poly: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Distance of each point (k, 3) to a polyline and the arc length of its footpoint: (k,), (k,)."""
+def _nearest_on(points: FloatArray, poly: FloatArray, cum: FloatArray | None = None) -> tuple[FloatArray, FloatArray]:
+    """Distance of each point (k, 3) to a polyline and the arc length of its footpoint: (k,), (k,).
+    cum: cumulative_length(poly), when the caller has it already."""
     a, ab = poly[:-1], np.diff(poly, axis=0)
     ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
     w = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
     d = np.linalg.norm(a[None] + w[..., None] * ab[None] - points[:, None, :], axis=2)
     j = d.argmin(axis=1)
-    cum = cumulative_length(poly)
+    cum = cumulative_length(poly) if cum is None else cum
     seg = np.sqrt(ll)
     k = np.arange(len(points))
     return d[k, j], cum[j] + w[k, j] * seg[j]
@@ -192,8 +193,18 @@ class _Candidates:
         self.attach.append(list(attachments))
 
 
-def _bbox_close(a: FloatArray, b: FloatArray, margin: float) -> bool:
-    return bool(np.all(a.min(axis=0) - margin <= b.max(axis=0)) and np.all(b.min(axis=0) - margin <= a.max(axis=0)))
+class _Boxes:
+    """The strokes' bounding boxes, found once, so that the pair tests (two strokes, or a stroke end
+    and a stroke, cannot touch when their boxes lie further apart than the margin) are one
+    vectorised comparison per stroke instead of two box computations per pair."""
+
+    def __init__(self, strokes: list) -> None:
+        self.lo = np.array([s.min(axis=0) for s in strokes]).reshape(-1, 3)
+        self.hi = np.array([s.max(axis=0) for s in strokes]).reshape(-1, 3)
+
+    def close_to(self, lo: FloatArray, hi: FloatArray, margin: float) -> np.ndarray:
+        """(n_strokes,) bool: the strokes whose box comes within `margin` of the box [lo, hi]."""
+        return np.all(lo - margin <= self.hi, axis=1) & np.all(self.lo - margin <= hi, axis=1)
 
 
 def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
@@ -201,14 +212,22 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
     its length (measured at its points and chord midpoints)."""
     merged: dict = {}
     order = sorted(range(len(strokes)), key=lambda i: -lengths[i])
+    boxes = _Boxes(strokes)
     for rank, i in enumerate(order):
         if i in merged:
             continue
+        near = boxes.close_to(boxes.lo[i], boxes.hi[i], delta)
         for j in order[rank + 1:]:
-            if j in merged or not _bbox_close(strokes[i], strokes[j], delta):
+            if j in merged or not near[j]:
                 continue
             pj = strokes[j]
             probe = np.vstack([pj, 0.5 * (pj[1:] + pj[:-1])])
+            # a probe outside stroke i's box grown by delta is further than delta from it: when
+            # too few lie inside, the distances cannot reach the cover (the margin covers round-off)
+            reach = delta * (1.0 + 1e-9)
+            inbox = np.all((probe >= boxes.lo[i] - reach) & (probe <= boxes.hi[i] + reach), axis=1)
+            if np.mean(inbox) < OVERSKETCH_COVER:
+                continue
             d, _ = _nearest_on(probe, strokes[i])
             if np.mean(d <= delta) >= OVERSKETCH_COVER:
                 merged[j] = i
@@ -218,10 +237,12 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
 def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trims: dict) -> None:
     """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring)."""
     cums = [cumulative_length(s) for s in strokes]
+    boxes = _Boxes(strokes)
     for x, i in enumerate(live):
+        near = boxes.close_to(boxes.lo[i], boxes.hi[i], delta)
         for j in live[x + 1:]:
             a, b = strokes[i], strokes[j]
-            if not _bbox_close(a, b, delta):
+            if not near[j]:
                 continue
             dist, s, t = segment_distances(a, b)
             for rows, cols in _components(dist <= delta):
@@ -236,8 +257,8 @@ def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trim
                     # a run along the other stroke: trim the stroke whose end lies in the run
                     _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes)
                     continue
-                pa = point_at_length(a, sa)
-                pb = point_at_length(b, sb)
+                pa = point_at_length(a, sa, cums[i])
+                pb = point_at_length(b, sb, cums[j])
                 cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
 
 
@@ -253,37 +274,40 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: _Candi
             at_start = lo <= 1e-9 * total
             keep_from = hi if at_start else lo
             trims.setdefault(me, []).append((at_start, keep_from))
-            p = point_at_length(strokes[me], keep_from)
-            d, s_other = _nearest_on(p[None], strokes[other])
-            cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0])), [(me, keep_from), (other, s_other[0])])
+            p = point_at_length(strokes[me], keep_from, cum)
+            d, s_other = _nearest_on(p[None], strokes[other], cums[other])
+            cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0], cums[other])),
+                      [(me, keep_from), (other, s_other[0])])
             return
     # a run in the middle of both: they touch along it; one node at its middle
     k = len(rows) // 2
     r, c = rows[k], cols[k]
     sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
     sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
-    cands.add(0.5 * (point_at_length(strokes[i], sa) + point_at_length(strokes[j], sb)), [(i, sa), (j, sb)])
+    cands.add(0.5 * (point_at_length(strokes[i], sa, cums[i]) + point_at_length(strokes[j], sb, cums[j])),
+              [(i, sa), (j, sb)])
 
 
 def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> None:
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
     own other end, for a closed stroke) is joined to its nearest point there."""
     reach = PROXIMITY * delta
+    boxes = _Boxes(strokes)
+    cums = {i: cumulative_length(strokes[i]) for i in live}
     for i in live:
         total = chord_length(strokes[i])
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
             best = None
+            near = boxes.close_to(p, p, reach)
             for j in live:
-                if j == i:
+                if j == i or not near[j]:
                     continue
-                if not _bbox_close(p[None], strokes[j], reach):
-                    continue
-                d, sj = _nearest_on(p[None], strokes[j])
+                d, sj = _nearest_on(p[None], strokes[j], cums[j])
                 if d[0] <= reach and (best is None or d[0] < best[0]):
                     best = (d[0], j, sj[0])
             if best is not None:
                 _, j, sj = best
-                cands.add(0.5 * (p + point_at_length(strokes[j], sj)), [(i, s_end), (j, sj)])
+                cands.add(0.5 * (p + point_at_length(strokes[j], sj, cums[j])), [(i, s_end), (j, sj)])
         if total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach:
             cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
 

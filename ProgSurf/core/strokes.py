@@ -126,10 +126,11 @@ def ramp(dist: FloatArray, delta: FloatArray, total: float) -> FloatArray | None
     return (w * w * (3.0 - 2.0 * w))[:, None] * delta
 
 
-def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike) -> FloatArray:
-    """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d)."""
+def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike, cum: FloatArray | None = None) -> FloatArray:
+    """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d).
+    cum: cumulative_length(points), when the caller has it already."""
     pts = np.asarray(points, dtype=float)
-    cum = cumulative_length(pts)
+    cum = cumulative_length(pts) if cum is None else cum
     s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
     return np.stack([np.interp(s, cum, pts[:, k]) for k in range(pts.shape[1])], axis=-1)
 
