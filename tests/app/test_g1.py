@@ -214,25 +214,40 @@ def test_a_crease_beyond_the_bound_is_left_as_g0_makes_it(name, monkeypatch):
 
 
 def test_g1_puts_faces_back_to_g0_where_together_they_would_fold():
-    """Issue 16, "G1 never makes it worse": on the project family's octant_2 (a 3-sided ellipsoid
-    octant, benchmarks.sketches), each G1 face kept within its bound, yet around a 3-sided face
-    they met at creases of 168-179 deg that G0 does not have, and the build warned. The faces of
-    such a new fold are put back to G0 (cad.shell.keep_no_new_fold), and the report says which."""
-    from benchmarks.sketches import family_specs, make_config
-    from ProgSurf.cad.analysis import face_folds, folds
+    """Issue 16, "G1 never makes it worse": G1 faces that each keep within their bound can still meet
+    at a crease G0 does not have (the project family's octant_2 had creases of 168-179 deg around a
+    3-sided face before 3-sided patches took their meridians straight to the apex; no sketch of the
+    family does it now). The faces of such a new fold go back to G0 (cad.shell.keep_no_new_fold).
+    Here it is given clean4's G0 faces and, as G1 faces, the same faces with one of them bulged
+    along its normal so far that it creases against its neighbours and turns over (a real B-spline
+    face, as a correction beyond its bound would make it)."""
+    from dataclasses import replace
 
-    config, seed = {name: (c, k) for name, c, k in family_specs(3, 0)}["octant_2"]
-    result = build_network([np.asarray(p) for p in make_config(config, seed, "octant_2").strokes])
+    from ProgSurf.cad.analysis import face_folds
+    from ProgSurf.cad.shell import keep_no_new_fold
+
+    result = build_network(read_strokes(ROOT / "examples" / "clean4.xyz"))
     g0 = cad.build_shell(result.network, result.tol, continuity="G0")
-    g1 = cad.build_shell(result.network, result.tol, continuity="G1")
-    assert not folds(g0)
-    assert not folds(g1), folds(g1)
-    assert g1.g1_reverted, "no face had to go back: the case no longer exercises keep_no_new_fold"
-    # without the put-back, the G1 faces fold (the case is real): every region's G1 face
-    smooth = {info.region_id: info for _, info in g1.cache.g1_shapes.values()}
-    assert face_folds([smooth.get(f.region_id, f) for f in g1.g0_faces], g1.sharp_edges)
-    # the put-back faces are exactly the G0 ones, the others G1
-    for f, f0 in zip(g1.faces, g1.g0_faces):
-        assert (f is f0) == (f.region_id in g1.g1_reverted)
-    assert set(g1.g1_reverted) <= {f.region_id for f in g1.g0_faces}
-    assert cad_g1.bound_summary(g1, result.network)["faces_left_g0_new_fold"] == list(g1.g1_reverted)
+    sharp = g0.sharp_edges
+    before = {(f.kind, f.regions) for f in face_folds(g0.faces, sharp)}
+    k = len(g0.faces) // 2
+    info = g0.faces[k]
+    surface = info.surface.copy()
+    u0, u1, v0, v1 = surface.bounds()
+    normal = surface.normal(0.5 * (u0 + u1), 0.5 * (v0 + v1))
+    box = info.face.BoundBox
+    lift = normal * (3.0 * box.DiagonalLength)
+    for i in range(2, surface.NbUPoles):
+        for j in range(2, surface.NbVPoles):
+            surface.setPole(i, j, surface.getPole(i, j) + lift)
+    bulged = replace(info, surface=surface, face=surface.toShape())
+    g1_faces = list(g0.faces)
+    g1_faces[k] = bulged
+    new = {(f.kind, f.regions) for f in face_folds(g1_faces, sharp)} - before
+    assert new, "the bulged face does not fold: the case does not exercise keep_no_new_fold"
+    faces, back = keep_no_new_fold(tuple(g0.faces), g1_faces, sharp)
+    assert info.region_id in back
+    assert len(back) < len(g0.faces), "every face went back: the G1 faces away from the fold were lost"
+    assert not {(f.kind, f.regions) for f in face_folds(faces, sharp)} - before
+    for f, f0, f1 in zip(faces, g0.faces, g1_faces):
+        assert f is (f0 if f.region_id in back else f1)
