@@ -195,12 +195,16 @@ class NetworkSurface:
         per region and rebuilt only for regions a stroke changed."""
         missing = [rid for rid in self._regions if rid not in self._facets]
         if missing:
+            # all missing grids in one evaluate_regions and one bilinear map (the same values as
+            # evaluate_region and local_to_uv region by region: a stroke leaves several to make)
             n = self.mesh_density
             g = np.linspace(0.0, 1.0, n + 1)
-            ss, rr = np.meshgrid(g, g, indexing="ij")
-            for rid in missing:
-                self._facets[rid] = _FacetPart(rid, self.evaluate_region(rid, ss, rr),
-                                               self.local_to_uv(rid, ss, rr))
+            ss, rr = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+            xyz = self.evaluate_regions([(rid, ss, rr) for rid in missing]).reshape(len(missing), n + 1, n + 1, 3)
+            corners = np.array([[self._nodes[k].uv for k in self.region_corners(rid)[0]] for rid in missing])
+            uv = bilinear(corners.transpose(1, 0, 2)[:, :, None, :], ss, rr).reshape(len(missing), n + 1, n + 1, 2)
+            for rid, grid_xyz, grid_uv in zip(missing, xyz, uv):
+                self._facets[rid] = _FacetPart(rid, grid_xyz, grid_uv)
         return [self._facets[rid] for rid in self._regions]
 
     def facets(self) -> Facets:

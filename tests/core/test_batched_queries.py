@@ -84,3 +84,17 @@ def test_find_folds_reports_the_one_at_a_time_checks(net, monkeypatch):
     assert {f.edge for f in part if f.kind == "seam"} == {e for e, o in owners.items() if set(o) & some}
     assert all(f.angle_deg == seams[f.edge] for f in part if f.kind == "seam")
     assert {f.regions[0] for f in part if f.kind == "face"} == some
+
+
+def test_facets_made_together_are_each_region_alone(net):
+    """The footpoint facets of every region a stroke left without them are made in one batch: each
+    region's grid and pre-image are, bit for bit, evaluate_region and local_to_uv of that region."""
+    work = net.clone()
+    work._facets.clear()
+    parts = work._facet_parts()
+    n = work.mesh_density
+    ss, rr = np.meshgrid(np.linspace(0.0, 1.0, n + 1), np.linspace(0.0, 1.0, n + 1), indexing="ij")
+    assert [p.rid for p in parts] == work.region_ids
+    for p in parts:
+        assert np.array_equal(p.grid_xyz, work.evaluate_region(p.rid, ss, rr))
+        assert np.array_equal(p.grid_uv, work.local_to_uv(p.rid, ss, rr))
