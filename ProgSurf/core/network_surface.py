@@ -168,10 +168,15 @@ class NetworkSurface:
         uv2 = np.atleast_2d(uv)
         rids = self.locate_many(uv2)
         out = np.empty((len(uv2), 3))
-        for rid in np.unique(rids):
-            mask = rids == rid
-            s, r = self.uv_to_local(int(rid), uv2[mask])
-            out[mask] = self.evaluate_region(int(rid), s, r)
+        # every region's points together (uv_to_local_sets, evaluate_regions: the same values as
+        # region by region)
+        held = [(int(rid), rids == rid) for rid in np.unique(rids)]
+        local = self.uv_to_local_sets([(rid, uv2[mask]) for rid, mask in held])
+        pts = self.evaluate_regions([(rid, s, r) for (rid, _), (s, r) in zip(held, local)])
+        at = 0
+        for (_, mask), (s, _) in zip(held, local):
+            out[mask] = pts[at: at + len(s)]
+            at += len(s)
         return out[0] if single else out
 
     def region_grid(self, rid: int, n: int | None = None) -> tuple[FloatArray, FloatArray]:

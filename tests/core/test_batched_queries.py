@@ -7,7 +7,7 @@ import pytest
 from benchmarks.surfaces import BENCH_TOL, SURFACES, grow_networks
 from ProgSurf.core import folds
 from ProgSurf.core.folds import face_turn_deg, find_folds, normal_sets, region_normals, seam_angle_deg
-from ProgSurf.core.preimage import inverse_bilinear, inverse_bilinear_sets
+from ProgSurf.core.preimage import bilinear, inverse_bilinear, inverse_bilinear_sets
 from ProgSurf.core.types import Polyline, evaluate_polylines
 
 
@@ -98,3 +98,31 @@ def test_facets_made_together_are_each_region_alone(net):
     for p in parts:
         assert np.array_equal(p.grid_xyz, work.evaluate_region(p.rid, ss, rr))
         assert np.array_equal(p.grid_uv, work.local_to_uv(p.rid, ss, rr))
+
+
+def test_inverse_bilinear_maps_back(net):
+    """Each region's local (s, r) of points inside it map back to the points (triangles by Cramer's
+    rule, quads by Newton), however many regions' points are inverted together."""
+    rng = np.random.default_rng(4)
+    sets = []
+    for rid in net.region_ids:
+        ids, tri = net.region_corners(rid)
+        corners = np.array([net.node_uv(n) for n in ids])
+        w = rng.dirichlet(np.ones(3 if tri else 4), size=int(rng.integers(1, 9)))
+        sets.append((corners, w @ corners[:3 if tri else 4], tri))
+    for (s, r), (corners, uv, tri) in zip(inverse_bilinear_sets(sets), sets):
+        assert np.allclose(bilinear(corners, s, r), uv, atol=1e-12)
+
+
+def test_surface_points_of_many_regions_are_each_region_alone(net):
+    """evaluate_uv inverts and evaluates all regions' points together: each region's points are
+    what uv_to_local and evaluate_region give for them (the region's points as one set)."""
+    rng = np.random.default_rng(5)
+    uv = rng.uniform(0, 1, (200, 2))
+    got = net.evaluate_uv(uv)
+    rids = net.locate_many(uv)
+    assert len(set(rids.tolist())) > 10
+    for rid in set(rids.tolist()):
+        held = rids == rid
+        assert np.array_equal(got[held], net.evaluate_region(rid, *net.uv_to_local(rid, uv[held])))
+    assert np.array_equal(net.evaluate_uv(uv[7]), net.evaluate_uv(uv[7:8])[0])
