@@ -90,13 +90,14 @@ class NetworkSurface:
         for rid, s, r in sets:
             patch = self.patch(rid)
             sides.append(tuple(side.polyline for side in self._patches[rid][1].sides))
-            corners.append(np.broadcast_to(patch.corners()[:, None], (4, len(s), 3)))
-        u = np.concatenate([np.asarray(s, dtype=float) for _, s, _ in sets])
-        v = np.concatenate([np.asarray(r, dtype=float) for _, _, r in sets])
+            corners.append(patch.corners())
+        u = np.concatenate([np.asarray(s, dtype=float).reshape(-1) for _, s, _ in sets])
+        v = np.concatenate([np.asarray(r, dtype=float).reshape(-1) for _, _, r in sets])
         # bottom and top at s, right and left at r (Eq. 1), all sets' points of one side together
         jobs = [(poly[i], s if i % 2 == 0 else r) for i in range(4) for poly, (_, s, r) in zip(sides, sets)]
         pts = evaluate_polylines(jobs).reshape(4, len(u), 3)
-        return coons_blend(u, v, tuple(pts), np.concatenate(corners, axis=1))
+        sizes = [np.size(s) for _, s, _ in sets]
+        return coons_blend(u, v, tuple(pts), np.repeat(np.stack(corners, axis=1), sizes, axis=1))
 
     def local_to_uv(self, rid: int, s: FloatArray | float, r: FloatArray | float) -> FloatArray:
         """Pre-image points (..., 2) of region rid's local (s, r): the bilinear map of its corners."""
