@@ -125,19 +125,24 @@ def inverse_bilinear_sets(sets: Sequence[tuple[FloatArray, FloatArray, bool]]) -
             at += k
     if not quads:
         return out
-    sizes = [len(uv) for _, _, uv in quads]
-    starts = np.cumsum([0] + sizes[:-1])
+    sizes = np.array([len(uv) for _, _, uv in quads])
     uv = np.concatenate([uv for _, _, uv in quads])
-    corners = np.repeat(np.stack([c for _, c, _ in quads], axis=1), sizes, axis=1)    # (4, k, 2)
-    c0, c1, c2, c3 = corners
-    s = np.full(len(uv), 0.5)
-    r = np.full(len(uv), 0.5)
+    c0, c1, c2, c3 = np.repeat(np.stack([c for _, c, _ in quads], axis=1), sizes, axis=1)    # (4, k, 2)
+    s_out = np.full(len(uv), 0.5)
+    r_out = np.full(len(uv), 0.5)
+    # the points of the sets still iterating (a set that has stopped is dropped from the arrays
+    # once a quarter of their points have: the same steps, on fewer points)
+    at = np.arange(len(uv))
+    a = (uv, c0, c1, c2, c3, c1 - c0, c2 - c3, c3 - c0, c2 - c1, s_out, r_out)
+    set_sizes = sizes
     running = np.ones(len(quads), dtype=bool)
     moving = np.ones(len(uv), dtype=bool)
     for _ in range(30):
-        f = bilinear(corners, s, r) - uv
-        ds = (1 - r)[:, None] * (c1 - c0) + r[:, None] * (c2 - c3)
-        dr = (1 - s)[:, None] * (c3 - c0) + s[:, None] * (c2 - c1)
+        p, q0, q1, q2, q3, d10, d23, d30, d21, s, r = a
+        starts = np.cumsum(np.concatenate([[0], set_sizes[:-1]]))
+        f = bilinear((q0, q1, q2, q3), s, r) - p
+        ds = (1 - r)[:, None] * d10 + r[:, None] * d23
+        dr = (1 - s)[:, None] * d30 + s[:, None] * d21
         det = cross2(ds, dr)
         det = np.where(np.abs(det) < 1e-300, 1e-300, det)
         step_s = cross2(f, dr) / det
@@ -145,12 +150,19 @@ def inverse_bilinear_sets(sets: Sequence[tuple[FloatArray, FloatArray, bool]]) -
         s = np.where(moving, s - step_s, s)
         r = np.where(moving, r - step_r, r)
         running &= ~(np.maximum.reduceat(np.abs(step_s) + np.abs(step_r), starts) < 1e-14)
+        s_out[at], r_out[at] = s, r
         if not running.any():
             break
-        moving = np.repeat(running, sizes)
-    s, r = clip01(s), clip01(r)
-    for (i, _, _), a, k in zip(quads, starts, sizes):
-        out[i] = (s[a:a + k], r[a:a + k])
+        moving = np.repeat(running, set_sizes)
+        if moving.sum() < 0.75 * len(moving):
+            at, a = at[moving], tuple(x[moving] for x in (p, q0, q1, q2, q3, d10, d23, d30, d21, s, r))
+            set_sizes, running = set_sizes[running], running[running]
+            moving = np.ones(len(at), dtype=bool)
+        else:
+            a = (p, q0, q1, q2, q3, d10, d23, d30, d21, s, r)
+    s, r = clip01(s_out), clip01(r_out)
+    for (i, _, _), k0, k in zip(quads, np.cumsum(np.concatenate([[0], sizes[:-1]])), sizes):
+        out[i] = (s[k0:k0 + k], r[k0:k0 + k])
     return out
 
 

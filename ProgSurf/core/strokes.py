@@ -95,7 +95,8 @@ def corner_angle_deg(a: npt.ArrayLike, b: npt.ArrayLike, reach: float = 0.1) -> 
     hook at the corner does not decide); 180 where either has no length."""
     dirs = []
     for p in (np.asarray(a, dtype=float), np.asarray(b, dtype=float)):
-        d = point_at_length(p, reach * cumulative_length(p)[-1]) - p[0]
+        cum = cumulative_length(p)
+        d = _point_at(p, cum, reach * cum[-1]) - p[0]
         n = float(np.linalg.norm(d))
         if not n > 0:
             return 180.0
@@ -129,7 +130,11 @@ def ramp(dist: FloatArray, delta: FloatArray, total: float) -> FloatArray | None
 def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike) -> FloatArray:
     """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d)."""
     pts = np.asarray(points, dtype=float)
-    cum = cumulative_length(pts)
+    return _point_at(pts, cumulative_length(pts), s)
+
+
+def _point_at(pts: FloatArray, cum: FloatArray, s: npt.ArrayLike) -> FloatArray:
+    """point_at_length of pts (n, d) whose cumulative_length is cum (n,)."""
     s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
     return np.stack([np.interp(s, cum, pts[:, k]) for k in range(pts.shape[1])], axis=-1)
 
