@@ -72,8 +72,17 @@ def _span(params: FloatArray, t: FloatArray) -> tuple[FloatArray, np.ndarray]:
 
 def _lerp(points: FloatArray, params: FloatArray, k: np.ndarray, tc: FloatArray) -> FloatArray:
     """Points at tc on segments k (indices into points and params)."""
-    w = ((tc - params[k]) / (params[k + 1] - params[k]))[..., None]
-    return points[k] * (1.0 - w) + points[k + 1] * w
+    # (take and in-place products: the same arithmetic as points[k] * (1 - w) + points[k + 1] * w,
+    # in half the time; the interpolation of every sample of the fold checks goes through here)
+    k1 = k + 1
+    pk = params.take(k)
+    w = ((tc - pk) / (params.take(k1) - pk))[..., None]
+    out = points.take(k, axis=0)
+    out *= 1.0 - w
+    nxt = points.take(k1, axis=0)
+    nxt *= w
+    out += nxt
+    return out
 
 
 def evaluate_polylines(jobs: Sequence[tuple["Polyline", FloatArray]]) -> FloatArray:
@@ -98,15 +107,22 @@ def evaluate_polylines(jobs: Sequence[tuple["Polyline", FloatArray]]) -> FloatAr
     held = np.repeat(~single, sizes)
     rows = np.repeat(which, sizes)[held]
     t = t[held]
-    # the segment of each parameter in its own polyline (Polyline.evaluate's clamp and search):
-    # keys (polyline, parameter) sort as complex numbers do, polyline first
-    first, last = prm[offsets], prm[offsets + counts - 1]
-    tc = np.minimum(np.maximum(t, first[rows]), last[rows])
-    keys = np.empty(len(prm), dtype=complex)
-    keys.real, keys.imag = np.repeat(np.arange(len(used)), counts), prm
-    query = np.empty(len(tc), dtype=complex)
-    query.real, query.imag = rows, tc
-    k = np.minimum(np.searchsorted(keys, query, side="right") - 1, (offsets + counts - 2)[rows])
+    # the segment of each parameter in its own polyline (Polyline.evaluate's clamp and search)
+    if len(t) >= 256 * len(jobs):
+        # long jobs: one search per job
+        spans = [_span(poly.params, t) for poly, t in jobs if len(poly.params) >= 2]
+        tc = np.concatenate([tc for tc, _ in spans])
+        k = np.concatenate([k for _, k in spans]) + np.repeat(offsets[which[~single]], sizes[~single])
+    else:
+        # many short jobs: one search of keys (polyline, parameter), which sort as complex
+        # numbers do, polyline first
+        first, last = prm[offsets], prm[offsets + counts - 1]
+        tc = np.minimum(np.maximum(t, first[rows]), last[rows])
+        keys = np.empty(len(prm), dtype=complex)
+        keys.real, keys.imag = np.repeat(np.arange(len(used)), counts), prm
+        query = np.empty(len(tc), dtype=complex)
+        query.real, query.imag = rows, tc
+        k = np.minimum(np.searchsorted(keys, query, side="right") - 1, (offsets + counts - 2)[rows])
     out = _lerp(pts, prm, k, tc)
     if single.any():
         starts = np.cumsum(np.concatenate([[0], sizes[:-1]]))

@@ -25,6 +25,9 @@ def test_polylines_together_are_each_polyline_alone():
     jobs = [(polys[i % 4], rng.uniform(-0.2, 1.2, 1 + i)) for i in range(9)] + [(polys[2], np.array([0.0, 1.0]))]
     together = evaluate_polylines(jobs)
     assert np.array_equal(together, np.concatenate([p.evaluate(t) for p, t in jobs]))
+    # long jobs (searched one by one) and short ones (searched together) alike
+    long = [(p, rng.uniform(-0.2, 1.2, 600)) for p in polys] + [(polys[1], np.linspace(0.0, 1.0, 601))]
+    assert np.array_equal(evaluate_polylines(long), np.concatenate([p.evaluate(t) for p, t in long]))
 
 
 def test_inverse_bilinear_of_many_sets_is_each_set_alone(net):
