@@ -184,15 +184,44 @@ def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Itera
                       + [(rid, s, r) for (_, rid), (s, r) in zip(pairs, local)])
     normals = dict(zip([(rid, "face") for rid in faces] + [(rid, eid) for eid, rid in pairs], got))
     out: list[Fold] = []
-    for rid in faces:
-        turn = turn_from_mean_deg(*normals[rid, "face"])
+    for rid, turn in zip(faces, _turns_from_mean_deg([normals[rid, "face"] for rid in faces])):
         if turn > FACE_TURN_DEG:
             out.append(Fold("face", turn, (rid,)))
-    for eid, owners in seams:
-        angle = _seam_angle([normals[rid, eid] for rid in owners])
+    angles = _seam_angles([[normals[rid, eid] for rid in owners] for eid, owners in seams])
+    for (eid, owners), angle in zip(seams, angles):
         if angle > SEAM_FOLD_DEG:
             out.append(Fold("seam", angle, owners, eid, edges[eid].curve_id))
     return out
+
+
+def _turns_from_mean_deg(sets: list[tuple[FloatArray, np.ndarray]]) -> list[float]:
+    """turn_from_mean_deg of several (normals (k, 3), ok (k,)) of one size k, at once (the same
+    values: the arithmetic is per set, row by row)."""
+    if not sets:
+        return []
+    unit = np.stack([n for n, _ in sets])
+    ok = np.stack([k for _, k in sets])
+    total = np.where(ok[..., None], unit, 0.0).sum(axis=1)          # (adding 0.0 changes no sum)
+    size = np.linalg.norm(total, axis=-1)
+    good = size > 1e-12 * np.maximum(size, 1e-300)
+    mean = total / np.where(good, size, 1.0)[:, None]
+    k = unit.shape[1]
+    angle = _angle(unit.reshape(-1, 3), np.repeat(mean, k, axis=0)).reshape(-1, k)
+    worst = np.where(ok, angle, -np.inf).max(axis=1)
+    out = np.where(good, worst, 180.0)
+    return [0.0 if n < 3 else float(t) for n, t in zip(ok.sum(axis=1), out)]
+
+
+def _seam_angles(sides: list[list[tuple[FloatArray, np.ndarray]]]) -> list[float]:
+    """_seam_angle of several seams whose sides have one number of samples, at once."""
+    if not sides:
+        return []
+    n0, n1 = (np.stack([s[i][0] for s in sides]) for i in (0, 1))
+    ok = np.stack([s[0][1] for s in sides]) & np.stack([s[1][1] for s in sides])
+    k = n0.shape[1]
+    angle = _angle(n0.reshape(-1, 3), n1.reshape(-1, 3)).reshape(-1, k)
+    worst = np.where(ok, angle, -np.inf).max(axis=1)
+    return [float(a) if any_ok else 0.0 for a, any_ok in zip(worst, ok.any(axis=1))]
 
 
 def surface_turn_deg(net, uv: FloatArray) -> float:
