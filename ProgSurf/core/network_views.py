@@ -184,8 +184,8 @@ class NetworkViews:
         uv = np.array([self._nodes[n].uv for n in k])
         lengths = [np.linalg.norm(uv[(i + 1) % 3] - uv[i]) for i in range(3)]
         default = (int(np.argmax(lengths)) + 2) % 3
-        angles = [corner_angle_deg(self._side(rid, k[i], k[(i + 1) % 3]).polyline.points,
-                                    self._side(rid, k[i], k[(i + 2) % 3]).polyline.points) for i in range(3)]
+        angles = [corner_angle_deg(self._side_points(rid, k[i], k[(i + 1) % 3]),
+                                    self._side_points(rid, k[i], k[(i + 2) % 3])) for i in range(3)]
         best = int(np.argmin(angles))
         apex = best if angles[best] < angles[default] - APEX_TIE_DEG else default
         cache[rid] = (reg, edges, apex)
@@ -208,6 +208,17 @@ class NetworkViews:
                 if cyc[i] in corners:
                     break
         raise RuntimeError(f"nodes {a} and {b} are not adjacent corners of region {rid}")
+
+    def _side_points(self, rid: int, a: int, b: int) -> FloatArray:
+        """(n, 3) the points of _side(rid, a, b).polyline (a != b), without its parameters."""
+        path = self._walk(rid, a, b)
+        pts = []
+        for k in range(len(path) - 1):
+            eid, rev = self.edge_between(path[k], path[k + 1])
+            p = self._edges[eid].polyline.points
+            p = p[::-1] if rev else p
+            pts.append(p[1:] if k > 0 else p)
+        return np.concatenate(pts)
 
     def _side(self, rid: int, a: int, b: int) -> SideView:
         if a == b:

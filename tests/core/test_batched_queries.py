@@ -129,3 +129,16 @@ def test_surface_points_of_many_regions_are_each_region_alone(net):
         held = rids == rid
         assert np.array_equal(got[held], net.evaluate_region(rid, *net.uv_to_local(rid, uv[held])))
     assert np.array_equal(net.evaluate_uv(uv[7]), net.evaluate_uv(uv[7:8])[0])
+
+
+def test_side_points_are_the_side_polylines_points(net):
+    """The apex of a 3-sided region is chosen from its sides' points alone (_side_points): the
+    points of the side views, bit for bit, in both directions along every side."""
+    checked = 0
+    for rid in net.region_ids:
+        k = net.region_corner_ids(rid)
+        for i in range(len(k)):
+            for a, b in ((k[i], k[(i + 1) % len(k)]), (k[(i + 1) % len(k)], k[i])):
+                assert np.array_equal(net._side_points(rid, a, b), net._side(rid, a, b).polyline.points)
+                checked += len(net._side(rid, a, b).edges) > 1
+    assert checked      # sides of several edges among them
