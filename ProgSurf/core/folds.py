@@ -229,8 +229,9 @@ def surface_turn_deg(net, uv: FloatArray) -> float:
     and their mean normal: how much the surface itself turns over that part of the pre-image."""
     uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
     h = np.where(uv + _STEP <= 1.0, _STEP, -_STEP)
-    p = net.evaluate_uv(uv)
-    du = (net.evaluate_uv(uv + np.column_stack([h[:, 0], 0 * h[:, 0]])) - p) / h[:, :1]
-    dv = (net.evaluate_uv(uv + np.column_stack([0 * h[:, 1], h[:, 1]])) - p) / h[:, 1:]
+    p, pu, pv = net.evaluate_uv_sets([uv, uv + np.column_stack([h[:, 0], 0 * h[:, 0]]),
+                                      uv + np.column_stack([0 * h[:, 1], h[:, 1]])])
+    du = (pu - p) / h[:, :1]
+    dv = (pv - p) / h[:, 1:]
     normals, ok = _unit(np.cross(du, dv))
     return turn_from_mean_deg(normals, ok)

@@ -165,20 +165,29 @@ class NetworkSurface:
     def evaluate_uv(self, uv: FloatArray) -> FloatArray:
         """3D points of the surface at pre-image points uv (k, 2) (or (2,)); (k, 3) or (3,)."""
         uv = np.asarray(uv, dtype=float)
-        single = uv.ndim == 1
-        uv2 = np.atleast_2d(uv)
-        rids = self.locate_many(uv2)
-        out = np.empty((len(uv2), 3))
+        out = self.evaluate_uv_sets([np.atleast_2d(uv)])[0]
+        return out[0] if uv.ndim == 1 else out
+
+    def evaluate_uv_sets(self, sets: list[FloatArray]) -> list[FloatArray]:
+        """:meth:`evaluate_uv` of several point sets uv (k, 2) at once: [(k, 3)] per set, the
+        same values as set by set (each set's points in one region are inverted as one set)."""
+        sets = [np.asarray(uv, dtype=float).reshape(-1, 2) for uv in sets]
+        rids = self.locate_many(np.concatenate(sets))
+        held, at = [], 0
+        for i, uv in enumerate(sets):
+            mine = rids[at: at + len(uv)]
+            held += [(i, int(rid), mine == rid) for rid in np.unique(mine)]
+            at += len(uv)
         # every region's points together (uv_to_local_sets, evaluate_regions: the same values as
         # region by region)
-        held = [(int(rid), rids == rid) for rid in np.unique(rids)]
-        local = self.uv_to_local_sets([(rid, uv2[mask]) for rid, mask in held])
-        pts = self.evaluate_regions([(rid, s, r) for (rid, _), (s, r) in zip(held, local)])
+        local = self.uv_to_local_sets([(rid, sets[i][mask]) for i, rid, mask in held])
+        pts = self.evaluate_regions([(rid, s, r) for (_, rid, _), (s, r) in zip(held, local)]) if held else None
+        out = [np.empty((len(uv), 3)) for uv in sets]
         at = 0
-        for (_, mask), (s, _) in zip(held, local):
-            out[mask] = pts[at: at + len(s)]
+        for (i, _, mask), (s, _) in zip(held, local):
+            out[i][mask] = pts[at: at + len(s)]
             at += len(s)
-        return out[0] if single else out
+        return out
 
     def region_grid(self, rid: int, n: int | None = None) -> tuple[FloatArray, FloatArray]:
         """A re-parameterised mesh of the sub-patch: local (s, r) samples that include the side

@@ -225,7 +225,7 @@ def extension(net: PatchNetwork, end: StrokeEnd, away: FloatArray, falloff: str)
     k = max(4, int(np.ceil(length * 4 * net.mesh_density)))
     w = np.linspace(0.0, 1.0, k + 1)[1:]
     uv = end.uv + np.outer(w * length, direction)
-    surface = net.evaluate_uv(uv)
-    delta = end.xyz - net.evaluate_uv(end.uv)
+    surface, at_end = net.evaluate_uv_sets([uv, end.uv])
+    delta = end.xyz - at_end[0]
     fall = 1.0 - w if falloff == "linear" else 2 * w**3 - 3 * w**2 + 1
     return uv, surface + fall[:, None] * delta

@@ -129,6 +129,11 @@ def test_surface_points_of_many_regions_are_each_region_alone(net):
         held = rids == rid
         assert np.array_equal(got[held], net.evaluate_region(rid, *net.uv_to_local(rid, uv[held])))
     assert np.array_equal(net.evaluate_uv(uv[7]), net.evaluate_uv(uv[7:8])[0])
+    # several sets at once: each as evaluate_uv gives it alone (a set's points in one region are
+    # inverted together, so sets that share a region are kept apart)
+    sets = [uv[:50], uv[50:51], uv[51:], uv[:50] + 1e-3]
+    for got_set, one in zip(net.evaluate_uv_sets(sets), sets):
+        assert np.array_equal(got_set, net.evaluate_uv(one))
 
 
 def test_side_points_are_the_side_polylines_points(net):
