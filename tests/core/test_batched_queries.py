@@ -147,3 +147,53 @@ def test_side_points_are_the_side_polylines_points(net):
                 assert np.array_equal(net._side_points(rid, a, b), net._side(rid, a, b).polyline.points)
                 checked += len(net._side(rid, a, b).edges) > 1
     assert checked      # sides of several edges among them
+
+
+def _snaps_over_every_segment(pts, snap, segs):
+    """snap_candidates as it was before it left out the far segments: every segment measured."""
+    from ProgSurf.core.stroke_ends import SNAP_TIE_FRACTION
+    from ProgSurf.core.strokes import cumulative_length
+
+    a, b, eid, t0, t1, outer = segs
+    h = max(1, len(pts) // 2)
+    p = pts[:h]
+    ab = b - a
+    ll = np.einsum("ij,ij->i", ab, ab)
+    w = np.clip(np.einsum("hsk,sk->hs", p[:, None, :] - a[None], ab) / np.where(ll > 1e-300, ll, 1.0), 0.0, 1.0)
+    close = a[None] + w[..., None] * ab[None]
+    d = np.linalg.norm(p[:, None, :] - close, axis=2)
+    d = np.where(outer[None, :] | (cumulative_length(pts)[:h, None] <= 2.0 * snap), d, np.inf)
+    j, s = np.unravel_index(int(np.argmin(d)), d.shape)
+    if not d[j, s] < snap:
+        return []
+    tie = SNAP_TIE_FRACTION * snap
+    near = (d <= d[j, s] + tie) & (np.linalg.norm(close - close[j, s], axis=2) <= tie)
+    near[j, s] = False
+    return [(int(k), int(eid[q]), float(t0[q] + w[k, q] * (t1[q] - t0[q])), close[k, q])
+            for k, q in [(j, s)] + list(zip(*np.nonzero(near)))]
+
+
+def test_snap_candidates_measure_only_the_segments_that_can_snap(net):
+    """Leaving out the segments far from the stroke's first half changes no snap: the same snaps
+    (edge, parameter, point, in the same order) as measuring every segment, for strokes that
+    start on an edge, at a node (tied snaps), near one, or nowhere near."""
+    from ProgSurf.core.stroke_ends import snap_candidates
+
+    rng = np.random.default_rng(6)
+    segs = net.edge_segments()
+    a, b = segs[0], segs[1]
+    size = float(np.ptp(np.vstack([a, b]), axis=0).max())
+    found = 0
+    for i in range(60):
+        k = int(rng.integers(len(a)))
+        start = a[k] + rng.uniform(0, 1) * (b[k] - a[k]) if i % 3 else a[k]
+        step = rng.normal(size=3) * size / 40
+        pts = start + rng.normal(scale=size / 200, size=3) * (i % 2) + np.outer(np.linspace(0, 1, 12), step)
+        for snap in (size / 100, size / 20):
+            want = _snaps_over_every_segment(pts, snap, segs)
+            got = snap_candidates(pts, snap, segs)
+            assert len(got) == len(want)
+            for x, y in zip(got, want):
+                assert x[:3] == y[:3] and np.array_equal(x[3], y[3])
+            found += bool(got)
+    assert 0 < found < 120
