@@ -74,17 +74,23 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
     s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
     r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
-    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1)
+    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1), its sides
+    # evaluated once at each distinct s, s0, s1 and r, r0, r1 (a face's 9 x 9 grid has 9 of each)
     blocks, first, count, at = [], [], [], 0
+    distinct: dict = {}
     for rid, held in by_region.items():
         m = sum(len(jobs[i][1]) for i in held)
         a, b = at, at + m
-        blocks.append((rid, np.concatenate([s0[a:b], s1[a:b], s[a:b], s[a:b]]),
-                       np.concatenate([r[a:b], r[a:b], r0[a:b], r1[a:b]])))
+        (sv, si), (rv, ri) = (_distinct_values([jobs[i][k] for i in held], distinct) for k in (1, 2))
+        ns, nr = len(sv), len(rv)
+        blocks.append((rid, np.concatenate([clip01(sv - _STEP), clip01(sv + _STEP), sv]),
+                       np.concatenate([rv, clip01(rv - _STEP), clip01(rv + _STEP)]),
+                       np.concatenate([si, ns + si, 2 * ns + si, 2 * ns + si]),
+                       np.concatenate([ri, ri, nr + ri, 2 * nr + ri])))
         first.append(4 * a + np.arange(m))
         count.append(np.full(m, m))
         at = b
-    p = net.evaluate_regions(blocks)
+    p = net.evaluate_regions_indexed(blocks)
     i0, m = np.concatenate(first), np.concatenate(count)
     du = (p[i0 + m] - p[i0]) / (s1 - s0)[:, None]
     dv = (p[i0 + 3 * m] - p[i0 + 2 * m]) / (r1 - r0)[:, None]
@@ -104,6 +110,27 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     for i, a, k in zip(order, starts, sizes):
         out[i] = (unit[a:a + k], ok[a:a + k])
     return out
+
+
+def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
+    """Values (a,) and index (k,) such that values[index] is the concatenation of `arrays`, bit for
+    bit: each long array by its distinct values (memo: by array, for one array given for many
+    regions), each short one as it is."""
+    vals, index, at = [], [], 0
+    for x in arrays:
+        x = np.asarray(x, dtype=float)
+        got = memo.get(id(x))
+        if got is None or got[0] is not x:
+            got = (x, x, np.arange(len(x)))
+            if len(x) > 16:
+                u, inv = np.unique(x, return_inverse=True)
+                if np.array_equal(u[inv].view(np.int64), x.view(np.int64)):    # (not -0.0 for 0.0)
+                    got = (x, u, inv)
+            memo[id(x)] = got
+        vals.append(got[1])
+        index.append(at + got[2])
+        at += len(got[1])
+    return np.concatenate(vals), np.concatenate(index)
 
 
 def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:

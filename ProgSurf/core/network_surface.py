@@ -83,14 +83,39 @@ class NetworkSurface:
         """3D points of region rid's Coons sub-patch at local (s, r) in [0,1]^2; (..., 3)."""
         return self.patch(rid).evaluate(s, r)
 
-    def evaluate_regions(self, sets: list[tuple[int, FloatArray, FloatArray]]) -> FloatArray:
-        """:meth:`evaluate_region` of several (region id, s (k,), r (k,)) at once, concatenated
-        (sum k, 3): the same values, the sub-patches' sides and blends evaluated together."""
+    def _sides_and_corners(self, rids) -> tuple[list, list]:
+        """The four side polylines (bottom, right, top, left) and the corners (4, 3) of each region's
+        sub-patch."""
         sides, corners = [], []
-        for rid, s, r in sets:
+        for rid in rids:
             patch = self.patch(rid)
             sides.append(tuple(side.polyline for side in self._patches[rid][1].sides))
             corners.append(patch.corners())
+        return sides, corners
+
+    def evaluate_regions_indexed(self, sets: list[tuple[int, FloatArray, FloatArray, np.ndarray, np.ndarray]]) -> FloatArray:
+        """:meth:`evaluate_regions` of several (region id, s values (a,), r values (b,), s index (k,),
+        r index (k,)): the points (s values[s index], r values[r index]), the same values, each side
+        evaluated once per distinct parameter (a central-difference grid repeats them)."""
+        sides, corners = self._sides_and_corners([rid for rid, *_ in sets])
+        jobs = [(poly[i], sv if i % 2 == 0 else rv) for i in range(4) for poly, (_, sv, rv, _, _) in zip(sides, sets)]
+        pts = evaluate_polylines(jobs)
+        la, lb = [len(sv) for _, sv, _, _, _ in sets], [len(rv) for _, _, rv, _, _ in sets]
+        at_s = np.concatenate([[0], np.cumsum(la)[:-1]])
+        at_r = np.concatenate([[0], np.cumsum(lb)[:-1]])
+        gs = np.concatenate([a + si for a, (_, _, _, si, _) in zip(at_s, sets)])
+        gr = np.concatenate([a + ri for a, (_, _, _, _, ri) in zip(at_r, sets)])
+        na, nb = sum(la), sum(lb)
+        u = np.concatenate([sv for _, sv, _, _, _ in sets])[gs]
+        v = np.concatenate([rv for _, _, rv, _, _ in sets])[gr]
+        bottom, right, top, left = pts[gs], pts[na + gr], pts[na + nb + gs], pts[2 * na + nb + gr]
+        sizes = [len(si) for _, _, _, si, _ in sets]
+        return coons_blend(u, v, (bottom, right, top, left), np.repeat(np.stack(corners, axis=1), sizes, axis=1))
+
+    def evaluate_regions(self, sets: list[tuple[int, FloatArray, FloatArray]]) -> FloatArray:
+        """:meth:`evaluate_region` of several (region id, s (k,), r (k,)) at once, concatenated
+        (sum k, 3): the same values, the sub-patches' sides and blends evaluated together."""
+        sides, corners = self._sides_and_corners([rid for rid, _, _ in sets])
         u = np.concatenate([np.asarray(s, dtype=float).reshape(-1) for _, s, _ in sets])
         v = np.concatenate([np.asarray(r, dtype=float).reshape(-1) for _, _, r in sets])
         # bottom and top at s, right and left at r (Eq. 1), all sets' points of one side together

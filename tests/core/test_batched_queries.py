@@ -197,3 +197,27 @@ def test_snap_candidates_measure_only_the_segments_that_can_snap(net):
                 assert x[:3] == y[:3] and np.array_equal(x[3], y[3])
             found += bool(got)
     assert 0 < found < 120
+
+
+def test_regions_evaluated_at_distinct_parameters_are_the_points(net):
+    """evaluate_regions_indexed (each side once per distinct parameter, as the fold checks' central
+    differences on a 9 x 9 grid repeat them) gives, bit for bit, evaluate_regions of the points."""
+    rng = np.random.default_rng(7)
+    g = np.linspace(0.0, 1.0, 9)
+    sets = []
+    for rid in net.region_ids[:12]:
+        sv, rv = np.r_[g, rng.uniform(0, 1, 5)], np.r_[rng.uniform(0, 1, 3), g]
+        k = int(rng.integers(1, 120))
+        sets.append((rid, sv, rv, rng.integers(0, len(sv), k), rng.integers(0, len(rv), k)))
+    got = net.evaluate_regions_indexed(sets)
+    assert np.array_equal(got, net.evaluate_regions([(rid, sv[si], rv[ri]) for rid, sv, rv, si, ri in sets]))
+
+
+def test_distinct_values_rebuild_the_samples_bit_for_bit():
+    memo: dict = {}
+    grid = np.repeat(np.linspace(0.0, 1.0, 9), 9)
+    arrays = [grid, np.array([0.0, -0.0, 0.5]), np.r_[np.zeros(20), -np.zeros(20)], grid]
+    vals, index = folds._distinct_values(arrays, memo)
+    want = np.concatenate(arrays)
+    assert np.array_equal(vals[index].view(np.int64), want.view(np.int64))
+    assert len(vals) < len(want)
