@@ -131,35 +131,43 @@ def inverse_bilinear_sets(sets: Sequence[tuple[FloatArray, FloatArray, bool]]) -
     s_out = np.full(len(uv), 0.5)
     r_out = np.full(len(uv), 0.5)
     # the points of the sets still iterating (a set that has stopped is dropped from the arrays
-    # once a quarter of their points have: the same steps, on fewer points)
+    # once a quarter of their points have: the same steps, on fewer points). The arithmetic is
+    # bilinear's and cross2's, written out: (1 - s) and (1 - r) are shared, not made twice.
     at = np.arange(len(uv))
-    a = (uv, c0, c1, c2, c3, c1 - c0, c2 - c3, c3 - c0, c2 - c1, s_out, r_out)
+    a = (uv, c0, c1, c2, c3, c1 - c0, c2 - c3, c3 - c0, c2 - c1, s_out.copy(), r_out.copy())
     set_sizes = sizes
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     running = np.ones(len(quads), dtype=bool)
-    moving = np.ones(len(uv), dtype=bool)
+    moving = None                                   # None: every point moves
     for _ in range(30):
         p, q0, q1, q2, q3, d10, d23, d30, d21, s, r = a
-        starts = np.cumsum(np.concatenate([[0], set_sizes[:-1]]))
-        f = bilinear((q0, q1, q2, q3), s, r) - p
-        ds = (1 - r)[:, None] * d10 + r[:, None] * d23
-        dr = (1 - s)[:, None] * d30 + s[:, None] * d21
-        det = cross2(ds, dr)
+        S, R = s[:, None], r[:, None]
+        S1, R1 = 1 - S, 1 - R
+        f = S1 * R1 * q0 + S * R1 * q1 + S * R * q2 + S1 * R * q3 - p
+        ds = R1 * d10 + R * d23
+        dr = S1 * d30 + S * d21
+        det = ds[:, 0] * dr[:, 1] - ds[:, 1] * dr[:, 0]
         det = np.where(np.abs(det) < 1e-300, 1e-300, det)
-        step_s = cross2(f, dr) / det
-        step_r = cross2(ds, f) / det
-        s = np.where(moving, s - step_s, s)
-        r = np.where(moving, r - step_r, r)
+        step_s = (f[:, 0] * dr[:, 1] - f[:, 1] * dr[:, 0]) / det
+        step_r = (ds[:, 0] * f[:, 1] - ds[:, 1] * f[:, 0]) / det
+        if moving is None:
+            s, r = s - step_s, r - step_r
+        else:
+            s, r = np.where(moving, s - step_s, s), np.where(moving, r - step_r, r)
         running &= ~(np.maximum.reduceat(np.abs(step_s) + np.abs(step_r), starts) < 1e-14)
-        s_out[at], r_out[at] = s, r
+        a = (p, q0, q1, q2, q3, d10, d23, d30, d21, s, r)
+        if running.all():
+            continue
         if not running.any():
             break
         moving = np.repeat(running, set_sizes)
         if moving.sum() < 0.75 * len(moving):
-            at, a = at[moving], tuple(x[moving] for x in (p, q0, q1, q2, q3, d10, d23, d30, d21, s, r))
+            s_out[at], r_out[at] = s, r
+            at, a = at[moving], tuple(x[moving] for x in a)
             set_sizes, running = set_sizes[running], running[running]
-            moving = np.ones(len(at), dtype=bool)
-        else:
-            a = (p, q0, q1, q2, q3, d10, d23, d30, d21, s, r)
+            starts = np.concatenate([[0], np.cumsum(set_sizes)[:-1]])
+            moving = None
+    s_out[at], r_out[at] = a[-2], a[-1]
     s, r = clip01(s_out), clip01(r_out)
     for (i, _, _), k0, k in zip(quads, np.cumsum(np.concatenate([[0], sizes[:-1]])), sizes):
         out[i] = (s[k0:k0 + k], r[k0:k0 + k])
