@@ -43,10 +43,12 @@ class _FacetPart:
 
     __slots__ = ("rid", "grid_xyz", "grid_uv", "box", "_full")
 
-    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray) -> None:
+    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray, box: FloatArray | None = None) -> None:
         self.rid, self.grid_xyz, self.grid_uv = rid, grid_xyz, grid_uv
-        flat = grid_xyz.reshape(-1, 3)
-        self.box = np.stack([flat.min(axis=0), flat.max(axis=0)])
+        if box is None:
+            flat = grid_xyz.reshape(-1, 3)
+            box = np.stack([flat.min(axis=0), flat.max(axis=0)])
+        self.box = box
         self._full = None
 
     def __getitem__(self, k: int):
@@ -239,12 +241,15 @@ class NetworkSurface:
             # evaluate_region and local_to_uv region by region: a stroke leaves several to make)
             n = self.mesh_density
             g = np.linspace(0.0, 1.0, n + 1)
-            ss, rr = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-            xyz = self.evaluate_regions([(rid, ss, rr) for rid in missing]).reshape(len(missing), n + 1, n + 1, 3)
+            si, ri = (a.ravel() for a in np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij"))
+            ss, rr = g[si], g[ri]
+            xyz = self.evaluate_regions_indexed([(rid, g, g, si, ri) for rid in missing]).reshape(len(missing), n + 1, n + 1, 3)
             corners = np.array([[self._nodes[k].uv for k in self.region_corners(rid)[0]] for rid in missing])
             uv = bilinear(corners.transpose(1, 0, 2)[:, :, None, :], ss, rr).reshape(len(missing), n + 1, n + 1, 2)
-            for rid, grid_xyz, grid_uv in zip(missing, xyz, uv):
-                self._facets[rid] = _FacetPart(rid, grid_xyz, grid_uv)
+            flat = xyz.reshape(len(missing), -1, 3)
+            boxes = np.stack([flat.min(axis=1), flat.max(axis=1)], axis=1)
+            for rid, grid_xyz, grid_uv, box in zip(missing, xyz, uv, boxes):
+                self._facets[rid] = _FacetPart(rid, grid_xyz, grid_uv, box)
         return [self._facets[rid] for rid in self._regions]
 
     def facets(self) -> Facets:

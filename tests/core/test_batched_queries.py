@@ -101,6 +101,8 @@ def test_facets_made_together_are_each_region_alone(net):
     for p in parts:
         assert np.array_equal(p.grid_xyz, work.evaluate_region(p.rid, ss, rr))
         assert np.array_equal(p.grid_uv, work.local_to_uv(p.rid, ss, rr))
+        flat = p.grid_xyz.reshape(-1, 3)
+        assert np.array_equal(p.box, np.stack([flat.min(axis=0), flat.max(axis=0)]))
 
 
 def test_inverse_bilinear_maps_back(net):
