@@ -93,10 +93,12 @@ class ViewCache:
     boxes        : (facet parts, (R, 2, 3) bounding boxes) for footpoint()
     apexes       : region id -> (region record, edge records along its cycle, apex index) of a
                    3-sided region (NetworkViews._triangle_apex)
+    quad_corners : region id -> (region record, its corners' node records, corner ids in Coons
+                   order) of a 4-sided region (NetworkViews.region_corners)
     """
 
     __slots__ = ("edges_now", "edge_views", "segments", "region_views", "polygons", "locator",
-                 "joined", "boxes", "apexes")
+                 "joined", "boxes", "apexes", "quad_corners")
 
     def __init__(self) -> None:
         self.edges_now: Optional[dict] = None
@@ -108,6 +110,7 @@ class ViewCache:
         self.joined: Optional[tuple] = None
         self.boxes: Optional[tuple] = None
         self.apexes: dict = {}
+        self.quad_corners: dict = {}
 
     def copy(self) -> "ViewCache":
         """A cache for a clone: the per-id tables copied (each network adds its own entries), the
@@ -115,7 +118,7 @@ class ViewCache:
         other = ViewCache()
         other.edge_views, other.segments = dict(self.edge_views), dict(self.segments)
         other.region_views, other.polygons = dict(self.region_views), dict(self.polygons)
-        other.apexes = dict(self.apexes)
+        other.apexes, other.quad_corners = dict(self.apexes), dict(self.quad_corners)
         other.locator, other.joined, other.boxes = self.locator, self.joined, self.boxes
         return other
 
@@ -158,9 +161,15 @@ class NetworkViews:
         reg = self._regions[rid]
         k = reg.corners
         if len(k) == 4:
-            uv = np.array([self._nodes[n].uv for n in k])
+            nodes = tuple(self._nodes[n] for n in k)
+            cache = self._view_cache.quad_corners = pruned(self._view_cache.quad_corners, self._regions)
+            hit = cache.get(rid)
+            if hit is not None and hit[0] is reg and all(x is y for x, y in zip(hit[1], nodes)):
+                return hit[2], False
+            uv = np.array([n.uv for n in nodes])
             start = int(np.argmin(uv[:, 0] + uv[:, 1] + 1e-9 * np.arange(4)))
             k = k[start:] + k[:start]
+            cache[rid] = (reg, nodes, (k[0], k[1], k[2], k[3]))
             return (k[0], k[1], k[2], k[3]), False
         # Triangle: the apex that collapses (Fig. 4) is its sharpest corner in 3D; the side
         # opposite it is the bottom.
