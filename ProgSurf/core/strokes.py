@@ -96,12 +96,15 @@ def corner_angle_deg(a: npt.ArrayLike, b: npt.ArrayLike, reach: float = 0.1) -> 
     dirs = []
     for p in (np.asarray(a, dtype=float), np.asarray(b, dtype=float)):
         cum = cumulative_length(p)
-        d = _point_at(p, cum, reach * cum[-1]) - p[0]
+        # (point_at_length of one length; min/max clamp one value as np.clip does, without its
+        # checks, which cost more than the rest: this runs for every corner of every new triangle)
+        at = min(max(reach * cum[-1], 0.0), cum[-1])
+        d = np.array([np.interp(at, cum, p[:, k]) for k in range(p.shape[1])]) - p[0]
         n = float(np.linalg.norm(d))
         if not n > 0:
             return 180.0
         dirs.append(d / n)
-    return float(np.degrees(np.arccos(np.clip(dirs[0] @ dirs[1], -1.0, 1.0))))
+    return float(np.degrees(np.arccos(min(max(dirs[0] @ dirs[1], -1.0), 1.0))))
 
 
 RAMP_SLOPE = 0.05

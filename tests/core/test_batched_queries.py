@@ -223,3 +223,28 @@ def test_distinct_values_rebuild_the_samples_bit_for_bit():
     want = np.concatenate(arrays)
     assert np.array_equal(vals[index].view(np.int64), want.view(np.int64))
     assert len(vals) < len(want)
+
+
+def test_corner_angle_is_measured_as_point_at_length_gives_it():
+    """corner_angle_deg (run for every corner of every new 3-sided region) takes the point at its
+    reach by one interpolation and clamps without np.clip: the angle is, bit for bit, the one
+    point_at_length and np.clip give."""
+    from ProgSurf.core.strokes import corner_angle_deg, cumulative_length, point_at_length
+
+    def slow(a, b, reach):
+        dirs = []
+        for p in (a, b):
+            d = point_at_length(p, reach * cumulative_length(p)[-1]) - p[0]
+            n = float(np.linalg.norm(d))
+            if not n > 0:
+                return 180.0
+            dirs.append(d / n)
+        return float(np.degrees(np.arccos(np.clip(dirs[0] @ dirs[1], -1.0, 1.0))))
+
+    rng = np.random.default_rng(10)
+    for i in range(300):
+        a = np.cumsum(rng.normal(size=(int(rng.integers(2, 20)), 3)), axis=0)
+        b = a.copy() if i % 7 == 0 else np.cumsum(rng.normal(size=(int(rng.integers(2, 20)), 3)), axis=0)
+        b[0] = a[0]
+        for reach in (0.1, 0.0, 1.0):
+            assert corner_angle_deg(a, b, reach) == slow(a, b, reach)
