@@ -75,17 +75,23 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
     s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
     r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
-    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1)
+    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1), its sides
+    # evaluated once at each distinct s, s0, s1 and r, r0, r1 (a face's 9 x 9 grid has 9 of each)
     blocks, first, count, at = [], [], [], 0
+    distinct: dict = {}
     for rid, held in by_region.items():
         m = sum(len(jobs[i][1]) for i in held)
         a, b = at, at + m
-        blocks.append((rid, np.concatenate([s0[a:b], s1[a:b], s[a:b], s[a:b]]),
-                       np.concatenate([r[a:b], r[a:b], r0[a:b], r1[a:b]])))
+        (sv, si), (rv, ri) = (_distinct_values([jobs[i][k] for i in held], distinct) for k in (1, 2))
+        ns, nr = len(sv), len(rv)
+        blocks.append((rid, np.concatenate([clip01(sv - _STEP), clip01(sv + _STEP), sv]),
+                       np.concatenate([rv, clip01(rv - _STEP), clip01(rv + _STEP)]),
+                       np.concatenate([si, ns + si, 2 * ns + si, 2 * ns + si]),
+                       np.concatenate([ri, ri, nr + ri, 2 * nr + ri])))
         first.append(4 * a + np.arange(m))
         count.append(np.full(m, m))
         at = b
-    p = net.evaluate_regions(blocks)
+    p = net.evaluate_regions_indexed(blocks)
     i0, m = np.concatenate(first), np.concatenate(count)
     du = (p[i0 + m] - p[i0]) / (s1 - s0)[:, None]
     dv = (p[i0 + 3 * m] - p[i0 + 2 * m]) / (r1 - r0)[:, None]
@@ -105,6 +111,27 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     for i, a, k in zip(order, starts, sizes):
         out[i] = (unit[a:a + k], ok[a:a + k])
     return out
+
+
+def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
+    """Values (a,) and index (k,) such that values[index] is the concatenation of `arrays`, bit for
+    bit: each long array by its distinct values (memo: by array, for one array given for many
+    regions), each short one as it is."""
+    vals, index, at = [], [], 0
+    for x in arrays:
+        x = np.asarray(x, dtype=float)
+        got = memo.get(id(x))
+        if got is None or got[0] is not x:
+            got = (x, x, np.arange(len(x)))
+            if len(x) > 16:
+                u, inv = np.unique(x, return_inverse=True)
+                if np.array_equal(u[inv].view(np.int64), x.view(np.int64)):    # (not -0.0 for 0.0)
+                    got = (x, u, inv)
+            memo[id(x)] = got
+        vals.append(got[1])
+        index.append(at + got[2])
+        at += len(got[1])
+    return np.concatenate(vals), np.concatenate(index)
 
 
 def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -190,15 +217,44 @@ def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Itera
                       + [(rid, s, r) for (_, rid), (s, r) in zip(pairs, local)])
     normals = dict(zip([(rid, "face") for rid in faces] + [(rid, eid) for eid, rid in pairs], got))
     out: list[Fold] = []
-    for rid in faces:
-        turn = turn_from_mean_deg(*normals[rid, "face"])
+    for rid, turn in zip(faces, _turns_from_mean_deg([normals[rid, "face"] for rid in faces])):
         if turn > FACE_TURN_DEG:
             out.append(Fold("face", turn, (rid,)))
-    for eid, owners in seams:
-        angle = _seam_angle([normals[rid, eid] for rid in owners])
+    angles = _seam_angles([[normals[rid, eid] for rid in owners] for eid, owners in seams])
+    for (eid, owners), angle in zip(seams, angles):
         if angle > SEAM_FOLD_DEG:
             out.append(Fold("seam", angle, owners, eid, edges[eid].curve_id))
     return out
+
+
+def _turns_from_mean_deg(sets: list[tuple[FloatArray, np.ndarray]]) -> list[float]:
+    """turn_from_mean_deg of several (normals (k, 3), ok (k,)) of one size k, at once (the same
+    values: the arithmetic is per set, row by row)."""
+    if not sets:
+        return []
+    unit = np.stack([n for n, _ in sets])
+    ok = np.stack([k for _, k in sets])
+    total = np.where(ok[..., None], unit, 0.0).sum(axis=1)          # (adding 0.0 changes no sum)
+    size = np.linalg.norm(total, axis=-1)
+    good = size > 1e-12 * np.maximum(size, 1e-300)
+    mean = total / np.where(good, size, 1.0)[:, None]
+    k = unit.shape[1]
+    angle = _angle(unit.reshape(-1, 3), np.repeat(mean, k, axis=0)).reshape(-1, k)
+    worst = np.where(ok, angle, -np.inf).max(axis=1)
+    out = np.where(good, worst, 180.0)
+    return [0.0 if n < 3 else float(t) for n, t in zip(ok.sum(axis=1), out)]
+
+
+def _seam_angles(sides: list[list[tuple[FloatArray, np.ndarray]]]) -> list[float]:
+    """_seam_angle of several seams whose sides have one number of samples, at once."""
+    if not sides:
+        return []
+    n0, n1 = (np.stack([s[i][0] for s in sides]) for i in (0, 1))
+    ok = np.stack([s[0][1] for s in sides]) & np.stack([s[1][1] for s in sides])
+    k = n0.shape[1]
+    angle = _angle(n0.reshape(-1, 3), n1.reshape(-1, 3)).reshape(-1, k)
+    worst = np.where(ok, angle, -np.inf).max(axis=1)
+    return [float(a) if any_ok else 0.0 for a, any_ok in zip(worst, ok.any(axis=1))]
 
 
 def surface_turn_deg(net, uv: FloatArray) -> float:
@@ -206,8 +262,9 @@ def surface_turn_deg(net, uv: FloatArray) -> float:
     and their mean normal: how much the surface itself turns over that part of the pre-image."""
     uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
     h = np.where(uv + _STEP <= 1.0, _STEP, -_STEP)
-    p = net.evaluate_uv(uv)
-    du = (net.evaluate_uv(uv + np.column_stack([h[:, 0], 0 * h[:, 0]])) - p) / h[:, :1]
-    dv = (net.evaluate_uv(uv + np.column_stack([0 * h[:, 1], h[:, 1]])) - p) / h[:, 1:]
+    p, pu, pv = net.evaluate_uv_sets([uv, uv + np.column_stack([h[:, 0], 0 * h[:, 0]]),
+                                      uv + np.column_stack([0 * h[:, 1], h[:, 1]])])
+    du = (pu - p) / h[:, :1]
+    dv = (pv - p) / h[:, 1:]
     normals, ok = _unit(np.cross(du, dv))
     return turn_from_mean_deg(normals, ok)

@@ -43,10 +43,12 @@ class _FacetPart:
 
     __slots__ = ("rid", "grid_xyz", "grid_uv", "box", "_full")
 
-    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray) -> None:
+    def __init__(self, rid: int, grid_xyz: FloatArray, grid_uv: FloatArray, box: FloatArray | None = None) -> None:
         self.rid, self.grid_xyz, self.grid_uv = rid, grid_xyz, grid_uv
-        flat = grid_xyz.reshape(-1, 3)
-        self.box = np.stack([flat.min(axis=0), flat.max(axis=0)])
+        if box is None:
+            flat = grid_xyz.reshape(-1, 3)
+            box = np.stack([flat.min(axis=0), flat.max(axis=0)])
+        self.box = box
         self._full = None
 
     def __getitem__(self, k: int):
@@ -83,20 +85,46 @@ class NetworkSurface:
         """3D points of region rid's Coons sub-patch at local (s, r) in [0,1]^2; (..., 3)."""
         return self.patch(rid).evaluate(s, r)
 
+    def _sides_and_corners(self, rids) -> tuple[list, list]:
+        """The four side polylines (bottom, right, top, left) and the corners (4, 3) of each region's
+        sub-patch."""
+        sides, corners = [], []
+        for rid in rids:
+            patch = self.patch(rid)
+            sides.append(tuple(side.polyline for side in self._patches[rid][1].sides))
+            corners.append(patch.corners())
+        return sides, corners
+
+    def evaluate_regions_indexed(self, sets: list[tuple[int, FloatArray, FloatArray, np.ndarray, np.ndarray]]) -> FloatArray:
+        """:meth:`evaluate_regions` of several (region id, s values (a,), r values (b,), s index (k,),
+        r index (k,)): the points (s values[s index], r values[r index]), the same values, each side
+        evaluated once per distinct parameter (a central-difference grid repeats them)."""
+        sides, corners = self._sides_and_corners([rid for rid, *_ in sets])
+        jobs = [(poly[i], sv if i % 2 == 0 else rv) for i in range(4) for poly, (_, sv, rv, _, _) in zip(sides, sets)]
+        pts = evaluate_polylines(jobs)
+        la, lb = [len(sv) for _, sv, _, _, _ in sets], [len(rv) for _, _, rv, _, _ in sets]
+        at_s = np.concatenate([[0], np.cumsum(la)[:-1]])
+        at_r = np.concatenate([[0], np.cumsum(lb)[:-1]])
+        gs = np.concatenate([a + si for a, (_, _, _, si, _) in zip(at_s, sets)])
+        gr = np.concatenate([a + ri for a, (_, _, _, _, ri) in zip(at_r, sets)])
+        na, nb = sum(la), sum(lb)
+        u = np.concatenate([sv for _, sv, _, _, _ in sets])[gs]
+        v = np.concatenate([rv for _, _, rv, _, _ in sets])[gr]
+        bottom, right, top, left = pts[gs], pts[na + gr], pts[na + nb + gs], pts[2 * na + nb + gr]
+        sizes = [len(si) for _, _, _, si, _ in sets]
+        return coons_blend(u, v, (bottom, right, top, left), np.repeat(np.stack(corners, axis=1), sizes, axis=1))
+
     def evaluate_regions(self, sets: list[tuple[int, FloatArray, FloatArray]]) -> FloatArray:
         """:meth:`evaluate_region` of several (region id, s (k,), r (k,)) at once, concatenated
         (sum k, 3): the same values, the sub-patches' sides and blends evaluated together."""
-        sides, corners = [], []
-        for rid, s, r in sets:
-            patch = self.patch(rid)
-            sides.append(tuple(side.polyline for side in self._patches[rid][1].sides))
-            corners.append(np.broadcast_to(patch.corners()[:, None], (4, len(s), 3)))
-        u = np.concatenate([np.asarray(s, dtype=float) for _, s, _ in sets])
-        v = np.concatenate([np.asarray(r, dtype=float) for _, _, r in sets])
+        sides, corners = self._sides_and_corners([rid for rid, _, _ in sets])
+        u = np.concatenate([np.asarray(s, dtype=float).reshape(-1) for _, s, _ in sets])
+        v = np.concatenate([np.asarray(r, dtype=float).reshape(-1) for _, _, r in sets])
         # bottom and top at s, right and left at r (Eq. 1), all sets' points of one side together
         jobs = [(poly[i], s if i % 2 == 0 else r) for i in range(4) for poly, (_, s, r) in zip(sides, sets)]
         pts = evaluate_polylines(jobs).reshape(4, len(u), 3)
-        return coons_blend(u, v, tuple(pts), np.concatenate(corners, axis=1))
+        sizes = [np.size(s) for _, s, _ in sets]
+        return coons_blend(u, v, tuple(pts), np.repeat(np.stack(corners, axis=1), sizes, axis=1))
 
     def local_to_uv(self, rid: int, s: FloatArray | float, r: FloatArray | float) -> FloatArray:
         """Pre-image points (..., 2) of region rid's local (s, r): the bilinear map of its corners."""
@@ -164,15 +192,29 @@ class NetworkSurface:
     def evaluate_uv(self, uv: FloatArray) -> FloatArray:
         """3D points of the surface at pre-image points uv (k, 2) (or (2,)); (k, 3) or (3,)."""
         uv = np.asarray(uv, dtype=float)
-        single = uv.ndim == 1
-        uv2 = np.atleast_2d(uv)
-        rids = self.locate_many(uv2)
-        out = np.empty((len(uv2), 3))
-        for rid in np.unique(rids):
-            mask = rids == rid
-            s, r = self.uv_to_local(int(rid), uv2[mask])
-            out[mask] = self.evaluate_region(int(rid), s, r)
-        return out[0] if single else out
+        out = self.evaluate_uv_sets([np.atleast_2d(uv)])[0]
+        return out[0] if uv.ndim == 1 else out
+
+    def evaluate_uv_sets(self, sets: list[FloatArray]) -> list[FloatArray]:
+        """:meth:`evaluate_uv` of several point sets uv (k, 2) at once: [(k, 3)] per set, the
+        same values as set by set (each set's points in one region are inverted as one set)."""
+        sets = [np.asarray(uv, dtype=float).reshape(-1, 2) for uv in sets]
+        rids = self.locate_many(np.concatenate(sets))
+        held, at = [], 0
+        for i, uv in enumerate(sets):
+            mine = rids[at: at + len(uv)]
+            held += [(i, int(rid), mine == rid) for rid in np.unique(mine)]
+            at += len(uv)
+        # every region's points together (uv_to_local_sets, evaluate_regions: the same values as
+        # region by region)
+        local = self.uv_to_local_sets([(rid, sets[i][mask]) for i, rid, mask in held])
+        pts = self.evaluate_regions([(rid, s, r) for (_, rid, _), (s, r) in zip(held, local)]) if held else None
+        out = [np.empty((len(uv), 3)) for uv in sets]
+        at = 0
+        for (i, _, mask), (s, _) in zip(held, local):
+            out[i][mask] = pts[at: at + len(s)]
+            at += len(s)
+        return out
 
     def region_grid(self, rid: int, n: int | None = None) -> tuple[FloatArray, FloatArray]:
         """A re-parameterised mesh of the sub-patch: local (s, r) samples that include the side
@@ -195,12 +237,19 @@ class NetworkSurface:
         per region and rebuilt only for regions a stroke changed."""
         missing = [rid for rid in self._regions if rid not in self._facets]
         if missing:
+            # all missing grids in one evaluate_regions and one bilinear map (the same values as
+            # evaluate_region and local_to_uv region by region: a stroke leaves several to make)
             n = self.mesh_density
             g = np.linspace(0.0, 1.0, n + 1)
-            ss, rr = np.meshgrid(g, g, indexing="ij")
-            for rid in missing:
-                self._facets[rid] = _FacetPart(rid, self.evaluate_region(rid, ss, rr),
-                                               self.local_to_uv(rid, ss, rr))
+            si, ri = (a.ravel() for a in np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij"))
+            ss, rr = g[si], g[ri]
+            xyz = self.evaluate_regions_indexed([(rid, g, g, si, ri) for rid in missing]).reshape(len(missing), n + 1, n + 1, 3)
+            corners = np.array([[self._nodes[k].uv for k in self.region_corners(rid)[0]] for rid in missing])
+            uv = bilinear(corners.transpose(1, 0, 2)[:, :, None, :], ss, rr).reshape(len(missing), n + 1, n + 1, 2)
+            flat = xyz.reshape(len(missing), -1, 3)
+            boxes = np.stack([flat.min(axis=1), flat.max(axis=1)], axis=1)
+            for rid, grid_xyz, grid_uv, box in zip(missing, xyz, uv, boxes):
+                self._facets[rid] = _FacetPart(rid, grid_xyz, grid_uv, box)
         return [self._facets[rid] for rid in self._regions]
 
     def facets(self) -> Facets:

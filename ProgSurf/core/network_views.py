@@ -93,10 +93,12 @@ class ViewCache:
     boxes        : (facet parts, (R, 2, 3) bounding boxes) for footpoint()
     apexes       : region id -> (region record, edge records along its cycle, apex index) of a
                    3-sided region (NetworkViews._triangle_apex)
+    quad_corners : region id -> (region record, its corners' node records, corner ids in Coons
+                   order) of a 4-sided region (NetworkViews.region_corners)
     """
 
     __slots__ = ("edges_now", "edge_views", "segments", "region_views", "polygons", "locator",
-                 "joined", "boxes", "apexes")
+                 "joined", "boxes", "apexes", "quad_corners")
 
     def __init__(self) -> None:
         self.edges_now: Optional[dict] = None
@@ -108,6 +110,7 @@ class ViewCache:
         self.joined: Optional[tuple] = None
         self.boxes: Optional[tuple] = None
         self.apexes: dict = {}
+        self.quad_corners: dict = {}
 
     def copy(self) -> "ViewCache":
         """A cache for a clone: the per-id tables copied (each network adds its own entries), the
@@ -115,7 +118,7 @@ class ViewCache:
         other = ViewCache()
         other.edge_views, other.segments = dict(self.edge_views), dict(self.segments)
         other.region_views, other.polygons = dict(self.region_views), dict(self.polygons)
-        other.apexes = dict(self.apexes)
+        other.apexes, other.quad_corners = dict(self.apexes), dict(self.quad_corners)
         other.locator, other.joined, other.boxes = self.locator, self.joined, self.boxes
         return other
 
@@ -158,9 +161,15 @@ class NetworkViews:
         reg = self._regions[rid]
         k = reg.corners
         if len(k) == 4:
-            uv = np.array([self._nodes[n].uv for n in k])
+            nodes = tuple(self._nodes[n] for n in k)
+            cache = self._view_cache.quad_corners = pruned(self._view_cache.quad_corners, self._regions)
+            hit = cache.get(rid)
+            if hit is not None and hit[0] is reg and all(x is y for x, y in zip(hit[1], nodes)):
+                return hit[2], False
+            uv = np.array([n.uv for n in nodes])
             start = int(np.argmin(uv[:, 0] + uv[:, 1] + 1e-9 * np.arange(4)))
             k = k[start:] + k[:start]
+            cache[rid] = (reg, nodes, (k[0], k[1], k[2], k[3]))
             return (k[0], k[1], k[2], k[3]), False
         # Triangle: the apex that collapses (Fig. 4) is its sharpest corner in 3D; the side
         # opposite it is the bottom.
@@ -184,8 +193,8 @@ class NetworkViews:
         uv = np.array([self._nodes[n].uv for n in k])
         lengths = [np.linalg.norm(uv[(i + 1) % 3] - uv[i]) for i in range(3)]
         default = (int(np.argmax(lengths)) + 2) % 3
-        angles = [corner_angle_deg(self._side(rid, k[i], k[(i + 1) % 3]).polyline.points,
-                                    self._side(rid, k[i], k[(i + 2) % 3]).polyline.points) for i in range(3)]
+        angles = [corner_angle_deg(self._side_points(rid, k[i], k[(i + 1) % 3]),
+                                    self._side_points(rid, k[i], k[(i + 2) % 3])) for i in range(3)]
         best = int(np.argmin(angles))
         apex = best if angles[best] < angles[default] - APEX_TIE_DEG else default
         cache[rid] = (reg, edges, apex)
@@ -208,6 +217,17 @@ class NetworkViews:
                 if cyc[i] in corners:
                     break
         raise RuntimeError(f"nodes {a} and {b} are not adjacent corners of region {rid}")
+
+    def _side_points(self, rid: int, a: int, b: int) -> FloatArray:
+        """(n, 3) the points of _side(rid, a, b).polyline (a != b), without its parameters."""
+        path = self._walk(rid, a, b)
+        pts = []
+        for k in range(len(path) - 1):
+            eid, rev = self.edge_between(path[k], path[k + 1])
+            p = self._edges[eid].polyline.points
+            p = p[::-1] if rev else p
+            pts.append(p[1:] if k > 0 else p)
+        return np.concatenate(pts)
 
     def _side(self, rid: int, a: int, b: int) -> SideView:
         if a == b:

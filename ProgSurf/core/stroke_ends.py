@@ -70,9 +70,18 @@ def snap_candidates(pts: FloatArray, snap: float, segs: EdgeSegments) -> list[Sn
     to the stroke and at the same point, within SNAP_TIE_FRACTION of the snap distance (the same
     place on another edge, or on a stretch of edge that doubles back over another). Empty for a
     free end."""
-    a, b, eid, t0, t1, outer = segs
     h = max(1, len(pts) // 2)
     p = pts[:h]
+    # only the segments whose bounding box comes within the snap distance (and the tie allowance)
+    # of the first half's: the others cannot be nearer than it, nor tied with a snap (the same
+    # snaps, in the same order, without the distances to every segment of the network)
+    reach = snap * (1.0 + 2.0 * SNAP_TIE_FRACTION) + 1e-9 * (float(np.abs(p).max()) + snap)
+    lo, hi = p.min(axis=0) - reach, p.max(axis=0) + reach
+    a, b = segs[0], segs[1]
+    near_box = np.all(np.minimum(a, b) <= hi, axis=1) & np.all(np.maximum(a, b) >= lo, axis=1)
+    if not near_box.any():
+        return []
+    a, b, eid, t0, t1, outer = (x[near_box] for x in segs)
     ab = b - a
     ll = np.einsum("ij,ij->i", ab, ab)
     w = np.einsum("hsk,sk->hs", p[:, None, :] - a[None], ab) / np.where(ll > 1e-300, ll, 1.0)
@@ -296,7 +305,7 @@ def extension(net: PatchNetwork, end: StrokeEnd, away: FloatArray, falloff: str)
     k = max(4, int(np.ceil(length * 4 * net.mesh_density)))
     w = np.linspace(0.0, 1.0, k + 1)[1:]
     uv = end.uv + np.outer(w * length, direction)
-    surface = net.evaluate_uv(uv)
-    delta = end.xyz - net.evaluate_uv(end.uv)
+    surface, at_end = net.evaluate_uv_sets([uv, end.uv])
+    delta = end.xyz - at_end[0]
     fall = 1.0 - w if falloff == "linear" else 2 * w**3 - 3 * w**2 + 1
     return uv, surface + fall[:, None] * delta

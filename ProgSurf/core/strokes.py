@@ -95,12 +95,16 @@ def corner_angle_deg(a: npt.ArrayLike, b: npt.ArrayLike, reach: float = 0.1) -> 
     hook at the corner does not decide); 180 where either has no length."""
     dirs = []
     for p in (np.asarray(a, dtype=float), np.asarray(b, dtype=float)):
-        d = point_at_length(p, reach * cumulative_length(p)[-1]) - p[0]
+        cum = cumulative_length(p)
+        # (point_at_length of one length; min/max clamp one value as np.clip does, without its
+        # checks, which cost more than the rest: this runs for every corner of every new triangle)
+        at = min(max(reach * cum[-1], 0.0), cum[-1])
+        d = np.array([np.interp(at, cum, p[:, k]) for k in range(p.shape[1])]) - p[0]
         n = float(np.linalg.norm(d))
         if not n > 0:
             return 180.0
         dirs.append(d / n)
-    return float(np.degrees(np.arccos(np.clip(dirs[0] @ dirs[1], -1.0, 1.0))))
+    return float(np.degrees(np.arccos(min(max(dirs[0] @ dirs[1], -1.0), 1.0))))
 
 
 RAMP_SLOPE = 0.05
@@ -130,7 +134,11 @@ def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike, cum: FloatArray | N
     """Point(s) at arc length s along a polyline (clamped to its ends); returns (..., d).
     cum: cumulative_length(points), when the caller has it already."""
     pts = np.asarray(points, dtype=float)
-    cum = cumulative_length(pts) if cum is None else cum
+    return _point_at(pts, cumulative_length(pts) if cum is None else cum, s)
+
+
+def _point_at(pts: FloatArray, cum: FloatArray, s: npt.ArrayLike) -> FloatArray:
+    """point_at_length of pts (n, d) whose cumulative_length is cum (n,)."""
     s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
     return np.stack([np.interp(s, cum, pts[:, k]) for k in range(pts.shape[1])], axis=-1)
 

@@ -72,37 +72,61 @@ def _span(params: FloatArray, t: FloatArray) -> tuple[FloatArray, np.ndarray]:
 
 def _lerp(points: FloatArray, params: FloatArray, k: np.ndarray, tc: FloatArray) -> FloatArray:
     """Points at tc on segments k (indices into points and params)."""
-    w = ((tc - params[k]) / (params[k + 1] - params[k]))[..., None]
-    return points[k] * (1.0 - w) + points[k + 1] * w
+    # (take and in-place products: the same arithmetic as points[k] * (1 - w) + points[k + 1] * w,
+    # in half the time; the interpolation of every sample of the fold checks goes through here)
+    k1 = k + 1
+    pk = params.take(k)
+    w = ((tc - pk) / (params.take(k1) - pk))[..., None]
+    out = points.take(k, axis=0)
+    out *= 1.0 - w
+    nxt = points.take(k1, axis=0)
+    nxt *= w
+    out += nxt
+    return out
 
 
 def evaluate_polylines(jobs: Sequence[tuple["Polyline", FloatArray]]) -> FloatArray:
     """Polyline.evaluate of several (polyline, parameters (k,)) at once, concatenated (sum k, 3):
-    one segment search per job, the interpolation of all of them together (the same values as
-    one by one)."""
-    jobs = [(poly, np.asarray(t, dtype=float)) for poly, t in jobs]
-    start: dict = {}                         # each polyline's points once, however often it is used
-    used, total = [], 0
+    the segment search of all jobs in one searchsorted, the interpolation of all of them together
+    (the same values as one by one)."""
+    jobs = [(poly, np.asarray(t, dtype=float).reshape(-1)) for poly, t in jobs]
+    group: dict = {}                         # each polyline's points once, however often it is used
+    used = []
     for poly, _ in jobs:
-        if id(poly) not in start:
-            start[id(poly)] = total
-            total += len(poly.params)
+        if id(poly) not in group:
+            group[id(poly)] = len(used)
             used.append(poly)
     pts = np.concatenate([p.points for p in used])
     prm = np.concatenate([p.params for p in used])
-    tcs, ks, single = [], [], []
-    for i, (poly, t) in enumerate(jobs):
-        if len(poly.params) < 2:             # one point (Polyline.evaluate): filled in below
-            single.append(i)
-            t = t[:0]
-        tc, k = _span(poly.params, t)
-        tcs.append(tc)
-        ks.append(k + start[id(poly)])
-    out = _lerp(pts, prm, np.concatenate(ks), np.concatenate(tcs))
-    if single:
-        sizes = [len(t) for _, t in jobs]
-        starts = np.cumsum([0] + sizes[:-1])
-        for i in single:
+    counts = np.array([len(p.params) for p in used])
+    offsets = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    which = np.array([group[id(poly)] for poly, _ in jobs])
+    sizes = np.array([len(t) for _, t in jobs])
+    single = counts[which] < 2               # one point (Polyline.evaluate): filled in below
+    t = np.concatenate([t for poly, t in jobs])
+    held = np.repeat(~single, sizes)
+    rows = np.repeat(which, sizes)[held]
+    t = t[held]
+    # the segment of each parameter in its own polyline (Polyline.evaluate's clamp and search)
+    if len(t) >= 256 * len(jobs):
+        # long jobs: one search per job
+        spans = [_span(poly.params, t) for poly, t in jobs if len(poly.params) >= 2]
+        tc = np.concatenate([tc for tc, _ in spans])
+        k = np.concatenate([k for _, k in spans]) + np.repeat(offsets[which[~single]], sizes[~single])
+    else:
+        # many short jobs: one search of keys (polyline, parameter), which sort as complex
+        # numbers do, polyline first
+        first, last = prm[offsets], prm[offsets + counts - 1]
+        tc = np.minimum(np.maximum(t, first[rows]), last[rows])
+        keys = np.empty(len(prm), dtype=complex)
+        keys.real, keys.imag = np.repeat(np.arange(len(used)), counts), prm
+        query = np.empty(len(tc), dtype=complex)
+        query.real, query.imag = rows, tc
+        k = np.minimum(np.searchsorted(keys, query, side="right") - 1, (offsets + counts - 2)[rows])
+    out = _lerp(pts, prm, k, tc)
+    if single.any():
+        starts = np.cumsum(np.concatenate([[0], sizes[:-1]]))
+        for i in np.flatnonzero(single):
             out = np.insert(out, starts[i], jobs[i][0].evaluate(jobs[i][1]), axis=0)
     return out
 
