@@ -17,7 +17,7 @@ import numpy as np  # noqa: E402
 
 import ProgSurf.app.make as ps  # noqa: E402
 from ProgSurf.app.network_object import stroke_accounts  # noqa: E402
-from test_network_object import NetworkTestCase, points_of  # noqa: E402
+from test_network_object import NetworkTestCase, bow_stroke, points_of  # noqa: E402
 
 
 def poles(face) -> np.ndarray:
@@ -47,12 +47,7 @@ class TestIncrementalRecompute(NetworkTestCase):
         plain = list(net.Shape.Faces)
 
         edge = self.edges[0]                  # (0,0,0)-(0,0,10), bowed outwards between its corners
-        old = points_of(edge)
-        t = np.linspace(0.0, 1.0, len(old))
-        bowed = old + np.outer(1.5 * np.sin(np.pi * t), [-1.0, -1.0, 0.0]) / np.sqrt(2.0)
-        self.doc.openTransaction("Bow a stroke")
-        edge.Points = [FreeCAD.Vector(*p) for p in bowed]
-        self.doc.commitTransaction()
+        old, _ = bow_stroke(self.doc, edge, 1.5, "Bow a stroke")
         self.doc.recompute()
         self.assertRecomputed(net, edge)
         self.assertEqual(net.LastError, "")

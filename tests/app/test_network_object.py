@@ -44,6 +44,18 @@ def points_of(stroke):
     return np.array([(p.x, p.y, p.z) for p in stroke.Points])
 
 
+def bow_stroke(doc, stroke, bulge, label):
+    """Bow a stroke of cube_edges outwards (towards -x and -y) by `bulge` mm in its middle, its
+    ends kept, in one undoable transaction `label`. Returns (old points, bowed points)."""
+    old = points_of(stroke)
+    t = np.linspace(0.0, 1.0, len(old))
+    bowed = old + np.outer(bulge * np.sin(np.pi * t), [-1.0, -1.0, 0.0]) / np.sqrt(2.0)
+    doc.openTransaction(label)
+    stroke.Points = [FreeCAD.Vector(*p) for p in bowed]
+    doc.commitTransaction()
+    return old, bowed
+
+
 def distance(shape, point):
     return shape.distToShape(Part.Vertex(FreeCAD.Vector(*point)))[0]
 
@@ -109,12 +121,7 @@ class TestCubeNetwork(NetworkTestCase):
         net = self.net
         area = net.Shape.Area
         edge = self.edges[0]                 # (0,0,0)-(0,0,10): bowed outwards, -x and -y
-        old = points_of(edge)
-        t = np.linspace(0.0, 1.0, len(old))
-        bowed = old + np.outer(BULGE * np.sin(np.pi * t), [-1.0, -1.0, 0.0]) / np.sqrt(2.0)
-        self.doc.openTransaction("Move stroke")
-        edge.Points = [FreeCAD.Vector(*p) for p in bowed]
-        self.doc.commitTransaction()
+        old, bowed = bow_stroke(self.doc, edge, BULGE, "Move stroke")
         self.doc.recompute()
         self.assertRecomputed(net, edge)
         self.assertEqual(net.LastError, "")
