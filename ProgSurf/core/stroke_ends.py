@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import StrokeOutsideSurfaceError, StrokeRejectedError
 from .network import EdgeSegments, PatchNetwork
-from .preimage import ray_exit
+from .preimage import ray_exit, segment_intersections
 from .strokes import cumulative_length, ramp
 from .types import FloatArray
 
@@ -175,19 +175,15 @@ def _at_apex(net: PatchNetwork, pts: FloatArray, snaps: list, snap: float, segs:
     centre = uv.mean(axis=0)
     _, _, vt = np.linalg.svd(uv - centre)
     d = vt[0] if float(vt[0] @ (uv[0] - uv[-1])) >= 0.0 else -vt[0]     # towards the stroke's end
-    best = None
-    for k, e in near:
-        a, b = np.asarray(e.uv0, dtype=float), np.asarray(e.uv1, dtype=float)
-        m = np.column_stack([d, a - b])
-        det = float(np.linalg.det(m))
-        if abs(det) <= 1e-12 * max(float(np.linalg.norm(b - a)), 1e-300):
-            continue
-        lam, t = np.linalg.solve(m, a - centre)
-        if lam > 0.0 and -UV_TIE <= t <= 1.0 + UV_TIE and (best is None or lam < best[0]):
-            best = (float(lam), k, float(np.clip(t, 0.0, 1.0)), e.polyline.points[0])
-    if best is None:
+    a = np.array([e.uv0 for _, e in near], dtype=float)
+    b = np.array([e.uv1 for _, e in near], dtype=float)
+    lam, t, parallel = segment_intersections(centre, centre + d, a, b)
+    hit = np.flatnonzero(~parallel & (lam > 0.0) & (t >= -UV_TIE) & (t <= 1.0 + UV_TIE))
+    if not len(hit):
         return snaps
-    return [(j, best[1], best[2], np.array(best[3], dtype=float))]
+    k = hit[np.argmin(lam[hit])]
+    eid, e = near[k]
+    return [(j, eid, float(np.clip(t[k], 0.0, 1.0)), np.array(e.polyline.points[0], dtype=float))]
 
 
 def _nearest_pair(net: PatchNetwork, firsts: list[Snap], lasts: list[Snap], pts: FloatArray,
