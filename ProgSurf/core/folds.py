@@ -147,12 +147,7 @@ def _angle(a: FloatArray, b: FloatArray) -> FloatArray:
 def turn_from_mean_deg(normals: FloatArray, ok: np.ndarray) -> float:
     """Largest angle (deg) between the defined unit normals (k, 3) (ok: (k,) which are) and their
     mean normal; 0 with fewer than 3, 180 when they cancel out."""
-    if ok.sum() < 3:
-        return 0.0
-    mean, good = _unit(normals[ok].sum(axis=0))
-    if not good:
-        return 180.0
-    return float(_angle(normals[ok], np.broadcast_to(mean, normals[ok].shape)).max())
+    return _turns_from_mean_deg([(normals, ok)])[0]
 
 
 def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
@@ -183,11 +178,7 @@ def _seam_uv(edges: list, n: int) -> FloatArray:
 
 def _seam_angle(sides: list[tuple[FloatArray, np.ndarray]]) -> float:
     """Largest angle (deg) between the two regions' normals at the samples both define."""
-    (n0, ok0), (n1, ok1) = sides
-    ok = ok0 & ok1
-    if not ok.any():
-        return 0.0
-    return float(_angle(n0[ok], n1[ok]).max())
+    return _seam_angles([sides])[0]
 
 
 def seam_angle_deg(net, eid: int, regions: tuple, n: int = SEAM_SAMPLES) -> float:
@@ -228,8 +219,8 @@ def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Itera
 
 
 def _turns_from_mean_deg(sets: list[tuple[FloatArray, np.ndarray]]) -> list[float]:
-    """turn_from_mean_deg of several (normals (k, 3), ok (k,)) of one size k, at once (the same
-    values: the arithmetic is per set, row by row)."""
+    """turn_from_mean_deg of several (normals (k, 3), ok (k,)) of one size k, at once (the
+    arithmetic is per set, row by row: one set gives what it gives alone)."""
     if not sets:
         return []
     unit = np.stack([n for n, _ in sets])
