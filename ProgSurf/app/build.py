@@ -20,7 +20,7 @@ One sample rule for every caller:
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Mapping, Optional, Sequence
@@ -235,6 +235,63 @@ def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
         fit_allowance_by_region=cad_analysis.fit_allowance(fitted, result.network, result.tol.fit_mm))
 
 
+WITHHOLD_ROUNDS = 4
+"""How many strokes a build may leave out, one at a time, because its built faces fold with them."""
+
+
+def _shell_of(result, continuity: str, previous):
+    shell = cad_shell.build_shell(result.network, result.tol, continuity=continuity, previous=previous)
+    if shell.shape.isNull() or not shell.shape.Faces:
+        raise FitError("the cad adapter returned no face; check the boundary strokes")
+    return shell
+
+
+def _culprit(result, analysis: Analysis) -> Optional[tuple[int, str]]:
+    """The last accepted interior stroke that made a face the quality checks fail on, and what fails
+    there in words for its record (the region numbers of a build that is not kept would mean nothing
+    to the user); None when no stroke made one (the base surface itself fails)."""
+    made = {rid: rec.index for rec in result.records if rec.status == "accepted" and rec.role == "interior"
+            for rid in rec.regions_created}
+    failing = [made[rid] for rid in analysis.failing_regions if rid in made]
+    if not failing:
+        return None
+    index = max(failing)
+    mine = {rid for rid, i in made.items() if i == index} & analysis.failing_regions
+    for fold in sorted(analysis.folds, key=lambda f: -f.angle_deg):
+        if set(fold.regions) & mine:
+            what = (f"the built surface would crease: two of its faces meet at {fold.angle_deg:.0f} deg"
+                    if fold.kind == "seam" else
+                    f"a built face would turn over: its normal turns {fold.angle_deg:.0f} deg inside it")
+            return index, what
+    return index, "a built face would lie further from its Coons patch than the fit tolerance allows"
+
+
+def _withhold_folding(arrays, boundary, tol, candidates, continuity, result, shell, analysis):
+    """Issue 16 (1): an accepted stroke must not fold the surface. The core checks each stroke
+    against its Coons sub-patches; the B-spline faces follow those only within the fit, and a crease
+    or a tuck can still show in them (sketchgen famK cyl_penta_6: a crease of 64 deg where the
+    sub-patches meet at 49 deg). Then the last stroke that made a failing face is left out and the
+    network built again without it, and again, for up to WITHHOLD_ROUNDS strokes (leaving one out can
+    let a stroke in that the core refused before); the build with the fewest problems is kept, the
+    earliest of equals: the surface is the one without those strokes, whose records say why."""
+    best = current = (result, shell, analysis)
+    withheld: dict[int, str] = {}
+    for _ in range(WITHHOLD_ROUNDS):
+        result, shell, analysis = current
+        found = _culprit(result, analysis) if analysis.problems else None
+        if found is None:
+            break
+        index, problem = found
+        withheld = {**withheld, index: (f"with it {problem}; redraw it closer to the surface, or further from "
+                                        "the curves it nearly touches")}
+        again = pipeline.build_network(arrays, boundary=boundary, tol=tol, candidates=candidates, withheld=withheld)
+        shell_again = _shell_of(again, continuity, shell)
+        current = (again, shell_again, measure(shell_again, again, len(arrays)))
+        if len(current[2].problems) < len(best[2].problems):
+            best = current
+    return best
+
+
 def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",
                       skin: bool = False, previous=None, candidates=None, previous_result=None,
                       report: bool = False) -> Outcome:
@@ -253,18 +310,22 @@ def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, 
     """
     if continuity not in cad_shell.CONTINUITIES:
         raise ProgSurfError(f"Continuity {continuity!r} is not one of {', '.join(cad_shell.CONTINUITIES)}")
-    result = pipeline.build_network([np.asarray(s, dtype=float) for s in strokes], boundary=boundary,
-                                    tol=tol, candidates=candidates, previous=previous_result)
+    arrays = [np.asarray(s, dtype=float) for s in strokes]
+    result = pipeline.build_network(arrays, boundary=boundary, tol=tol, candidates=candidates,
+                                    previous=previous_result)
     timings = dict(result.timings_s)
     clock = time.perf_counter()
-    shell = cad_shell.build_shell(result.network, result.tol, continuity=continuity, previous=previous)
+    shell = _shell_of(result, continuity, previous)
     timings["fit"] = time.perf_counter() - clock
-    shape = shell.shape
-    if shape.isNull() or not shape.Faces:
-        raise FitError("the cad adapter returned no face; check the boundary strokes")
     clock = time.perf_counter()
-    analysis = measure(shell, result, len(strokes), report=report)
+    analysis = measure(shell, result, len(strokes))
     timings["analysis"] = time.perf_counter() - clock
+    clock = time.perf_counter()
+    result, shell, analysis = _withhold_folding(arrays, boundary, tol, candidates, continuity, result, shell, analysis)
+    timings["withhold"] = time.perf_counter() - clock
+    if report:
+        analysis = replace(analysis, report=_report_measures(shell, result.network))
+    shape = shell.shape
     skinned = None
     if skin:   # the exchange surface (section 3.3): one face skinned across every patch
         clock = time.perf_counter()

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.bspline_surface import project_points, unit_normals
-from ..core.folds import Fold, turn_from_mean_deg
+from ..core.folds import TUCK_REACH, Fold, tuck_deg, turn_from_mean_deg
 from ..core.curve_fit import chord_sag
 from ..core.types import FloatArray
 from ._occ import Part, Vector
@@ -358,12 +358,27 @@ FOLD_SEAM_DEG = 60.0
 """A seam whose two faces' normals differ by more than this away from its ends is a fold."""
 
 FOLD_FACE_DEG = 90.0
-"""A face with a normal more than this from its mean normal turns over on itself: a fold."""
+"""A face whose normal turns by more than this inside it is a fold: a normal this far from the
+face's mean normal (it turns over on itself), or two normals this far apart less than
+core.folds.TUCK_REACH of the diagonal from each other (a tuck)."""
 
 FOLD_SAMPLES = 9
 """Points per seam (between 5 % and 95 % of it) and per side of a face's grid (3 % in from its
 sides) at which folds are looked for: the ends of a seam and the sides of a face are left out,
 where a 3-sided face's collapsed corner has no defined normal."""
+
+
+def _fold_grid() -> tuple[FloatArray, FloatArray]:
+    g = np.linspace(0.03, 0.97, FOLD_SAMPLES)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    return s, r
+
+
+def _face_points(info, s: FloatArray, r: FloatArray) -> FloatArray:
+    data = info.derived
+    if data.plain:
+        return data.derivatives.evaluate(s, r)[0]
+    return np.array([tuple(info.surface.value(float(a), float(b))) for a, b in zip(s, r)])
 
 
 def _face_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -384,7 +399,8 @@ def folds(result) -> list[Fold]:
 def face_folds(faces, sharp_edges=()) -> list[Fold]:
     """Every fold among FaceInfos: seams whose faces' normals differ by more than FOLD_SEAM_DEG
     between 5 % and 95 % of the seam (seams kept sharp on purpose, sharp_edges, excepted), and
-    faces with a normal more than FOLD_FACE_DEG from their mean normal."""
+    faces whose normal turns by more than FOLD_FACE_DEG inside them (from their mean normal, or
+    between two normals closer than TUCK_REACH of the diagonal of all the faces)."""
     out = []
     t = np.linspace(0.05, 0.95, FOLD_SAMPLES)
     sharp = set(sharp_edges)
@@ -395,8 +411,14 @@ def face_folds(faces, sharp_edges=()) -> list[Fold]:
         angles = angles[~np.isnan(angles)]
         if len(angles) and angles.max() > FOLD_SEAM_DEG:
             out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), edge=eid))
-    for info in faces:
-        turn = face_turn_deg(info)
+    s, r = _fold_grid()
+    points = [_face_points(info, s, r) for info in faces]
+    if points:
+        every = np.vstack(points)
+        reach = TUCK_REACH * float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
+    for info, at in zip(faces, points):
+        normals, ok = _face_normals(info, s, r)
+        turn = max(turn_from_mean_deg(normals, ok), tuck_deg(normals, ok, at, reach))
         if turn > FOLD_FACE_DEG:
             out.append(Fold("face", turn, (info.region_id,)))
     return out
@@ -406,7 +428,5 @@ def face_turn_deg(info) -> float:
     """Largest angle (deg) between a normal of a face (a FaceInfo: its surface and derived data)
     and its mean normal, on the FOLD_SAMPLES grid 3 % in from its sides: a face fold beyond
     FOLD_FACE_DEG (folds(); cad.g1 checks its corrected faces with it)."""
-    g = np.linspace(0.03, 0.97, FOLD_SAMPLES)
-    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-    normals, ok = _face_normals(info, s, r)
+    normals, ok = _face_normals(info, *_fold_grid())
     return turn_from_mean_deg(normals, ok)

@@ -150,6 +150,28 @@ def turn_from_mean_deg(normals: FloatArray, ok: np.ndarray) -> float:
     return _turns_from_mean_deg([(normals, ok)])[0]
 
 
+TUCK_REACH = 0.15
+"""Two normals of one face more than 90 deg apart are a fold when they are closer than this share
+of the sketch's diagonal (tuck_deg): a face that turns that far over more room follows the shape
+drawn (a strip across a cylinder panel 0.75 of the diagonal wide spreads ~100 deg), and a smooth
+surface turns that far within it only where its radius of curvature is under a tenth of the
+diagonal."""
+
+
+def tuck_deg(normals: FloatArray, ok: np.ndarray, points: FloatArray, reach: float) -> float:
+    """Largest angle (deg) between two defined unit normals (k, 3) (ok: (k,) which are) at points
+    (k, 3) less than `reach` apart: how far the surface turns within that distance. A tuck whose
+    turned-over part is a small share of a face moves the mean normal little, so the turn from the
+    mean reads about half of it (famK cyl_penta_8: a sliver 128 deg across, 69 deg from its mean,
+    upside down against the truth)."""
+    unit, at = normals[ok], points[ok]
+    if len(unit) < 2:
+        return 0.0
+    near = np.linalg.norm(at[:, None, :] - at[None, :, :], axis=-1) < reach
+    cos = np.where(near, unit @ unit.T, 1.0)
+    return float(np.degrees(np.arccos(min(max(float(cos.min()), -1.0), 1.0))))
+
+
 def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
     """Local (s, r) over a region, (2*n*n,) each: an n x n grid from side to side, and the n x n
     grid FACE_INSET in from the sides where the built face's check samples

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from typing import Callable, Optional, Sequence, Union
+from typing import Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -142,7 +142,8 @@ def _continues(previous: Optional[BuildResult], arrays: list, loop: BoundaryLoop
 def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, Sequence[int]] = None,
                   tol: Tolerances = Tolerances(), progress: Optional[Progress] = None,
                   falloff: str = "linear", candidates: Optional[Sequence[int]] = None,
-                  previous: Optional[BuildResult] = None, loop: Optional[BoundaryLoop] = None) -> BuildResult:
+                  previous: Optional[BuildResult] = None, loop: Optional[BoundaryLoop] = None,
+                  withheld: Optional[Mapping[int, str]] = None) -> BuildResult:
     """Build the progressive surface's patch network.
 
     strokes  : (n_i, 3) point arrays in mm, in drawing order
@@ -155,6 +156,8 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
                the time of the new strokes (timings_s["reused strokes"] counts the others).
     loop     : the BoundaryLoop of the strokes `boundary` names, made by the caller from a loop that
                is closed already (boundary.boundary_from_sides: a cycle of the stroke network)
+    withheld : interior stroke index -> why it is left out: recorded as rejected with that reason and
+               not added (a caller's later check found that the surface folds with it)
     Raises a ProgSurfError when no surface can be made (bad strokes, a boundary that cannot be
     closed); an interior stroke that cannot be added is recorded as rejected, never raised.
     """
@@ -192,7 +195,8 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
     sag = tol.sag_mm
     records: dict[int, StrokeRecord] = {}
     todo = list(interior)
-    if _continues(previous, arrays, loop, interior, tol, falloff):
+    withheld = dict(withheld or {})
+    if not withheld and _continues(previous, arrays, loop, interior, tol, falloff):
         net = previous.network.clone()
         done = len(previous.strokes)
         records.update({i: previous.records[i] for i in range(done)})
@@ -216,6 +220,9 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
     start_all = time.perf_counter()
     for k, i in enumerate(todo, start=len(interior) - len(todo)):
         clock = time.perf_counter()
+        if i in withheld:
+            records[i] = StrokeRecord(i, "interior", "rejected", withheld[i], points=arrays[i])
+            continue
         # rounded (1e-9 mm on the examples) so that a save/reopen round trip fairs the same
         reverse = processing_order(arrays[i], centre, TIE_FRACTION * tol.fit_mm)
         drawn = arrays[i][::-1] if reverse else arrays[i]

@@ -106,3 +106,30 @@ def test_no_accepted_stroke_folds_the_network(seed):
             assert find_folds(net, rec.regions_created) == [], rec.reason
         else:
             assert len(net) == before
+
+
+def test_a_tuck_is_a_fold_though_the_mean_normal_hardly_moves():
+    """A face whose normal turns by more than 90 deg inside it is a fold (issue 16). A tuck in a
+    small part of a curved face moves its mean normal little (sketchgen famK cyl_penta_8: 128 deg
+    across a sliver, 69 deg from its mean, upside down against the truth): tuck_deg measures it
+    between two normals less than a reach apart. A strip across a cylinder panel turns as far over
+    more room than the reach: that is its shape, not a fold."""
+    from ProgSurf.core.folds import tuck_deg, turn_from_mean_deg
+
+    def arc(deg, radius):
+        """Points and normals of a circular arc about the y axis at angles deg from +z."""
+        a = np.radians(np.asarray(deg, dtype=float))
+        n = np.column_stack([np.sin(a), 0 * a, np.cos(a)])
+        return radius * n, n
+
+    strip_p, strip_n = arc(np.linspace(-50.0, 50.0, 41), 500.0)      # 100 deg over 870 mm
+    tuck_p, tuck_n = arc([20.0, -15.0, -50.0], 20.0)                   # folding back at 20 mm radius
+    tuck_p = tuck_p + strip_p[-1] - tuck_p[0]                          # at the strip's side
+    points, normals = np.vstack([strip_p, tuck_p]), np.vstack([strip_n, tuck_n])
+    ok = np.ones(len(points), dtype=bool)
+    reach = 0.15 * 1000.0
+    assert turn_from_mean_deg(normals, ok) < 90.0
+    assert tuck_deg(normals, ok, points, reach) > 90.0
+    assert tuck_deg(strip_n, ok[:41], strip_p, reach) < 20.0
+    # normals that are not defined (a collapsed side) are left out
+    assert tuck_deg(normals, np.arange(len(points)) < 41, points, reach) < 20.0

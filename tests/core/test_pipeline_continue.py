@@ -82,3 +82,22 @@ def test_the_boundary_loop_is_kept_when_its_named_strokes_are_unchanged(strokes)
     again = build_network(moved, boundary=4, previous=earlier)
     assert again.boundary is not earlier.boundary and "reused strokes" not in again.timings_s
     _same_network(again.network, build_network(moved, boundary=4).network)
+
+
+def test_a_withheld_stroke_is_rejected_with_its_reason_and_left_out():
+    """build_network(withheld={i: why}): stroke i is recorded as rejected with that reason and the
+    surface is the one built without it (app.build leaves out strokes whose built faces fold)."""
+    strokes = read_strokes(str(Path(__file__).resolve().parents[2] / "examples" / "rough4.xyz"))
+    # the boundary named: the loop and the tolerances come from its strokes alone, so a build
+    # without stroke k is exactly what leaving it out must give
+    full = build_network(strokes, boundary=4)
+    assert [r.role for r in full.records[:4]] == ["boundary"] * 4
+    inner = [r.index for r in full.records if r.role == "interior" and r.status == "accepted"]
+    assert len(inner) >= 2
+    for k in (inner[0], inner[-1]):
+        out = build_network(strokes, boundary=4, withheld={k: "left out: a test"})
+        assert out.records[k].status == "rejected" and out.records[k].reason == "left out: a test"
+        without = build_network([s for i, s in enumerate(strokes) if i != k], boundary=4)
+        uv = np.random.default_rng(1).uniform(0.0, 1.0, (100, 2))
+        assert np.array_equal(out.network.evaluate_uv(uv), without.network.evaluate_uv(uv))
+        assert [r.status for i, r in enumerate(out.records) if i != k] == [r.status for r in without.records]
