@@ -246,19 +246,30 @@ def _shell_of(result, continuity: str, previous):
     return shell
 
 
-def _culprit(result, analysis: Analysis) -> Optional[tuple[int, str]]:
-    """The last accepted interior stroke that made a face the quality checks fail on, and what fails
-    there in words for its record (the region numbers of a build that is not kept would mean nothing
-    to the user); None when no stroke made one (the base surface itself fails)."""
+def _failing(shell, analysis: Analysis) -> tuple[tuple, frozenset]:
+    """(folds, failing regions) a stroke may be left out for: those of the built faces, and in G1
+    mode those of the G0 faces the G1 faces were made from too, so that G0 and G1 leave out the
+    same strokes (issue 16 (5) compares them on the same strokes; G1 rounding off a crease the G0
+    faces have is not a reason to keep the stroke that made it)."""
+    folds = tuple(analysis.folds)
+    if shell.continuity == "G1":
+        folds += tuple(cad_analysis.folds(cad_analysis.g0_view(shell)))
+    return folds, frozenset(r for f in folds for r in f.regions) | frozenset(analysis.fit_over)
+
+
+def _culprit(result, folds: tuple, failing: frozenset) -> Optional[tuple[int, str]]:
+    """The last accepted interior stroke that made a failing face, and what fails there in words
+    for its record (the region numbers of a build that is not kept would mean nothing to the user);
+    None when no stroke made one (the base surface itself fails)."""
     made = {rid: rec.index for rec in result.records if rec.status == "accepted" and rec.role == "interior"
             for rid in rec.regions_created}
-    failing = [made[rid] for rid in analysis.failing_regions if rid in made]
-    if not failing:
+    mine = [made[rid] for rid in failing if rid in made]
+    if not mine:
         return None
-    index = max(failing)
-    mine = {rid for rid, i in made.items() if i == index} & analysis.failing_regions
-    for fold in sorted(analysis.folds, key=lambda f: -f.angle_deg):
-        if set(fold.regions) & mine:
+    index = max(mine)
+    own = {rid for rid, i in made.items() if i == index} & failing
+    for fold in sorted(folds, key=lambda f: -f.angle_deg):
+        if set(fold.regions) & own:
             what = (f"the built surface would crease: two of its faces meet at {fold.angle_deg:.0f} deg"
                     if fold.kind == "seam" else
                     f"a built face would turn over: its normal turns {fold.angle_deg:.0f} deg inside it")
@@ -270,15 +281,20 @@ def _withhold_folding(arrays, boundary, tol, candidates, continuity, result, she
     """Issue 16 (1): an accepted stroke must not fold the surface. The core checks each stroke
     against its Coons sub-patches; the B-spline faces follow those only within the fit, and a crease
     or a tuck can still show in them (sketchgen famK cyl_penta_6: a crease of 64 deg where the
-    sub-patches meet at 49 deg). Then the last stroke that made a failing face is left out and the
-    network built again without it, and again, for up to WITHHOLD_ROUNDS strokes (leaving one out can
-    let a stroke in that the core refused before); the build with the fewest problems is kept, the
-    earliest of equals: the surface is the one without those strokes, whose records say why."""
-    best = current = (result, shell, analysis)
+    sub-patches meet at 49 deg). Then the last stroke that made a failing face (_failing) is left
+    out and the network built again without it, and again, for up to WITHHOLD_ROUNDS strokes
+    (leaving one out can let a stroke in that the core refused before); the build with the fewest
+    problems is kept, the earliest of equals: the surface is the one without those strokes, whose
+    records say why."""
+    def scored(result, shell, analysis):
+        folds, failing = _failing(shell, analysis)
+        return result, shell, analysis, folds, failing, len(folds) + (1 if analysis.fit_over else 0)
+
+    best = current = scored(result, shell, analysis)
     withheld: dict[int, str] = {}
     for _ in range(WITHHOLD_ROUNDS):
-        result, shell, analysis = current
-        found = _culprit(result, analysis) if analysis.problems else None
+        result, shell, analysis, folds, failing, count = current
+        found = _culprit(result, folds, failing) if count else None
         if found is None:
             break
         index, problem = found
@@ -286,10 +302,10 @@ def _withhold_folding(arrays, boundary, tol, candidates, continuity, result, she
                                         "the curves it nearly touches")}
         again = pipeline.build_network(arrays, boundary=boundary, tol=tol, candidates=candidates, withheld=withheld)
         shell_again = _shell_of(again, continuity, shell)
-        current = (again, shell_again, measure(shell_again, again, len(arrays)))
-        if len(current[2].problems) < len(best[2].problems):
+        current = scored(again, shell_again, measure(shell_again, again, len(arrays)))
+        if current[-1] < best[-1]:
             best = current
-    return best
+    return best[:3]
 
 
 def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",
