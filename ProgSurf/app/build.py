@@ -283,14 +283,16 @@ def _withhold_folding(arrays, boundary, tol, candidates, continuity, result, she
     or a tuck can still show in them (sketchgen famK cyl_penta_6: a crease of 64 deg where the
     sub-patches meet at 49 deg). Then the last stroke that made a failing face (_failing) is left
     out and the network built again without it, and again, for up to WITHHOLD_ROUNDS strokes
-    (leaving one out can let a stroke in that the core refused before); the build with the fewest
-    problems is kept, the earliest of equals: the surface is the one without those strokes, whose
-    records say why."""
+    (leaving one out can let a stroke in that the core refused before). The first build that passes
+    every check is kept: the surface is the one without those strokes, whose records say why. When
+    none does, the build as it was is kept, with its warning: leaving strokes out is no cure when
+    what fails is the base surface itself (CASSIE 07-2-2 as one surface: its loop's Coons patch
+    turns over with no interior stroke at all)."""
     def scored(result, shell, analysis):
         folds, failing = _failing(shell, analysis)
         return result, shell, analysis, folds, failing, len(folds) + (1 if analysis.fit_over else 0)
 
-    best = current = scored(result, shell, analysis)
+    first = current = scored(result, shell, analysis)
     withheld: dict[int, str] = {}
     for _ in range(WITHHOLD_ROUNDS):
         result, shell, analysis, folds, failing, count = current
@@ -303,9 +305,7 @@ def _withhold_folding(arrays, boundary, tol, candidates, continuity, result, she
         again = pipeline.build_network(arrays, boundary=boundary, tol=tol, candidates=candidates, withheld=withheld)
         shell_again = _shell_of(again, continuity, shell)
         current = scored(again, shell_again, measure(shell_again, again, len(arrays)))
-        if current[-1] < best[-1]:
-            best = current
-    return best[:3]
+    return (current if current[-1] == 0 else first)[:3]
 
 
 def build_and_measure(strokes: Sequence[np.ndarray], boundary, tol: Tolerances, *, continuity: str = "G0",

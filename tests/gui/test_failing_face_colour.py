@@ -3,8 +3,9 @@ why). In the real GUI under Xvfb:
 
 - the CASSIE VR sketch 07-2-2 of ../shared/data (skipped where it is absent), built as one surface
   with the automatic boundary and tolerances: the loop around the object bounds a Coons patch that
-  turns over by 112 deg in one of its 5 faces, and every interior stroke is rejected (the command
-  line exits 3 on it). The project's own family no longer warns anywhere (cyl_penta_0 did, until
+  turns over (3 of its 5 faces fail: their normals turn 136, 111 and 104 deg inside them), and the
+  interior strokes are rejected; leaving strokes out does not make it sound, so it is kept as it
+  is and warns (the command line exits 3 on it). The project's own family no longer warns anywhere (cyl_penta_0 did, until
   3-sided regions collapsed at their sharpest corner). The faces the report's quality
   section names (folds' regions, faces over their fit allowance) are drawn in WARNING_COLOUR, every
   other face in the surface's ShapeColor, and the 3D view shows the warning colour (FreeCAD's own
