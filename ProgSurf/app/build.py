@@ -251,9 +251,7 @@ def _failing(shell, analysis: Analysis) -> tuple[tuple, frozenset]:
     mode those of the G0 faces the G1 faces were made from too, so that G0 and G1 leave out the
     same strokes (issue 16 (5) compares them on the same strokes; G1 rounding off a crease the G0
     faces have is not a reason to keep the stroke that made it)."""
-    folds = tuple(analysis.folds)
-    if shell.continuity == "G1":
-        folds += tuple(cad_analysis.folds(cad_analysis.g0_view(shell)))
+    folds = tuple(analysis.folds) + tuple(shell.g0_folds)        # g0_folds: () in G0 mode
     return folds, frozenset(r for f in folds for r in f.regions) | frozenset(analysis.fit_over)
 
 

@@ -351,7 +351,7 @@ def g0_view(result):
 
     if result.continuity != "G1":
         return result
-    return replace(result, shape=None, faces=result.g0_faces, continuity="G0", g0_faces=())
+    return replace(result, shape=None, faces=result.g0_faces, continuity="G0", g0_faces=(), g0_folds=())
 
 
 FOLD_SEAM_DEG = 60.0
@@ -374,11 +374,15 @@ def _fold_grid() -> tuple[FloatArray, FloatArray]:
     return s, r
 
 
-def _face_points(info, s: FloatArray, r: FloatArray) -> FloatArray:
+def _face_points_and_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray, np.ndarray]:
+    """(points, unit normals, defined) of a face at (s, r): _face_normals with the points of the
+    same evaluation."""
     data = info.derived
     if data.plain:
-        return data.derivatives.evaluate(s, r)[0]
-    return np.array([tuple(info.surface.value(float(a), float(b))) for a, b in zip(s, r)])
+        points, ds, dr = data.derivatives.evaluate(s, r)
+        return (points, *unit_normals(ds, dr))
+    points = np.array([tuple(info.surface.value(float(a), float(b))) for a, b in zip(s, r)])
+    return (points, *_face_normals(info, s, r))
 
 
 def _face_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -412,12 +416,11 @@ def face_folds(faces, sharp_edges=()) -> list[Fold]:
         if len(angles) and angles.max() > FOLD_SEAM_DEG:
             out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), edge=eid))
     s, r = _fold_grid()
-    points = [_face_points(info, s, r) for info in faces]
-    if points:
-        every = np.vstack(points)
+    samples = [_face_points_and_normals(info, s, r) for info in faces]
+    if samples:
+        every = np.vstack([at for at, _, _ in samples])
         reach = TUCK_REACH * float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
-    for info, at in zip(faces, points):
-        normals, ok = _face_normals(info, s, r)
+    for info, (at, normals, ok) in zip(faces, samples):
         turn = max(turn_from_mean_deg(normals, ok), tuck_deg(normals, ok, at, reach))
         if turn > FOLD_FACE_DEG:
             out.append(Fold("face", turn, (info.region_id,)))

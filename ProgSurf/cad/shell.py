@@ -101,6 +101,8 @@ class ShellResult:
     continuity  : "G0" (exact Coons faces) or "G1" (cad.g1: flux-corrected faces, same boundaries)
     sharp_edges : ids of interior edges kept sharp in G1 mode (kinked strokes); empty in G0
     g0_faces    : in G1 mode, the G0 FaceInfos the G1 faces were made from (same order); else ()
+    g0_folds    : in G1 mode, the folds of those G0 faces (analysis.face_folds, sharp_edges
+                  excepted), found once for keep_no_new_fold and app.build; else ()
     cache       : what a later build_shell(..., previous=this) may reuse (ShellCache): fitted
                   curves and faces keyed by the exact content (polylines, nodes, tolerance) they
                   were made from, the sewn shell, and the same of the build before
@@ -119,26 +121,29 @@ class ShellResult:
     cache: ShellCache = field(default_factory=ShellCache, repr=False, compare=False)
     reused: dict = field(default_factory=dict, compare=False)
     g1_reverted: tuple = ()
+    g0_folds: tuple = ()
 
 
 G1_REVERT_ROUNDS = 4
 """keep_no_new_fold: rounds of putting faces back to G0 before every face is."""
 
 
-def keep_no_new_fold(g0_faces: tuple, g1_faces: list, sharp: frozenset) -> tuple[list, tuple]:
+def keep_no_new_fold(g0_faces: tuple, g1_faces: list, sharp: frozenset,
+                     g0_folds: tuple | None = None) -> tuple[list, tuple]:
     """G1 never makes it worse (issue 16): the faces of every fold (analysis.folds: a seam whose
     faces meet at more than 60 deg, a face that turns over) that the G1 faces have and the G0
     faces do not are put back to their G0 faces, which have the same boundaries, until no new fold
     is left (after G1_REVERT_ROUNDS rounds, every face is). cad.g1 leaves a seam G0 where its
     faces disagree and a face whose own correction turns it over, but two corrections that each
     stay within the bound can still meet at a crease near a corner (sk_octant_8: G1 made seams of
-    149-172 deg around a 3-sided face that G0 had smooth). Returns (faces, region ids put back)."""
+    149-172 deg around a 3-sided face that G0 had smooth). g0_folds: face_folds(g0_faces, sharp),
+    when the caller has them. Returns (faces, region ids put back)."""
     from .analysis import face_folds
 
     def keys(faces) -> set:
         return {(f.kind, f.regions) for f in face_folds(faces, sharp)}
 
-    before = keys(g0_faces)
+    before = ({(f.kind, f.regions) for f in g0_folds} if g0_folds is not None else keys(g0_faces))
     faces = list(g1_faces)
     back: set = set()
     for _ in range(G1_REVERT_ROUNDS):
@@ -185,11 +190,14 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": counts_faces}
     timings = {"fit_edges": t1 - t0, "faces": t2 - t1}
-    g0_faces, sharp, reverted = (), frozenset(), ()
+    g0_faces, sharp, reverted, g0_folds = (), frozenset(), (), ()
     if continuity == "G1":
+        from .analysis import face_folds
+
         g0_faces = tuple(infos)
         infos, sharp = g1_faces(network, g0_faces, last, cache)
-        infos, reverted = keep_no_new_fold(g0_faces, infos, sharp)
+        g0_folds = tuple(face_folds(g0_faces, sharp))
+        infos, reverted = keep_no_new_fold(g0_faces, infos, sharp, g0_folds)
         timings["g1"] = time.perf_counter() - t2
     t3 = time.perf_counter()
     faces = [i.face for i in infos]
@@ -207,4 +215,5 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     timings["sew"] = time.perf_counter() - t3
     counts["sewn"] = (sum(1 for f in faces if id(f) in presewn), len(faces))
     counts["local_sew"] = local is not None
-    return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts, reverted)
+    return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts, reverted,
+                       g0_folds)
