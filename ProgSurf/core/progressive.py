@@ -10,7 +10,7 @@ the crossings planned in :mod:`.node_planning`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Optional
 
 import numpy as np
@@ -19,6 +19,7 @@ from .errors import (ProgSurfError, StrokeFoldsError, StrokeOutsideSurfaceError,
                      StrokeRunsAlongCurveError)
 from .fold_repair import repair_folds
 from .network import PatchNetwork
+from .off_surface import as_drawn, drawn_off, end_misses, may_be_off, normals_at, onto_crossings
 from .stroke_ends import StrokeEnd, end_of, placed_end, trim_ends
 from .stroke_insertion import insert_piece
 from .types import FloatArray, Tolerances
@@ -63,13 +64,15 @@ class StrokeRecord:
 @dataclass
 class _Work:
     """What add_stroke has done so far, for its record: per straight piece its pre-image ends (2, 2),
-    curve id, end kinds and end offsets; the ids of the earlier curves pulled to the stroke."""
+    curve id, end kinds and end offsets; the ids of the earlier curves pulled to the stroke, and
+    its misses of the earlier stroke curves it crossed (stroke_insertion._place_nodes)."""
 
     pre_image: list = field(default_factory=list)
     curve_ids: list = field(default_factory=list)
     pulled: set = field(default_factory=set)
     ends: list = field(default_factory=list)
     offsets: list = field(default_factory=list)
+    misses: list = field(default_factory=list)
 
 
 def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerances, snap: float,
@@ -81,10 +84,35 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
     falloff: "linear" (the paper's even distribution) or "smooth" (cubic) for the end offsets
     """
     snap_state = net.snapshot()
+    pts = np.array(stroke, dtype=float)
+    rec, misses = _add_once(net, pts, index, tol, snap, falloff, snap_state)
+    misses = as_drawn(pts, misses, snap) if len(pts) >= 2 else []
+    if not may_be_off(misses, snap):
+        return rec
+    # drawn off the surface? (core.off_surface): the misses along the surface's normals before it
+    first = net.snapshot()
+    net.restore(snap_state)
+    normals = normals_at(net, [q - m for q, m in misses])
+    off = drawn_off(misses, normals, snap)
+    if off is not None:
+        # moved onto the strokes it crosses and added again; when that fails, the stroke as
+        # drawn keeps what it did
+        again, _ = _add_once(net, onto_crossings(pts, misses, normals), index, tol, snap, falloff, snap_state)
+        if again.status == "accepted":
+            return replace(again, reason=again.reason + (
+                f"; it missed the {len(misses)} drawn curves it meets by {off:.3g} mm alike (drawn off "
+                "the surface): moved onto them"))
+    net.restore(first)
+    return rec
+
+
+def _add_once(net: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances, snap: float, falloff: str,
+              snap_state: tuple) -> tuple[StrokeRecord, list]:
+    """add_stroke as the paper has it (later strokes win): the record, and the stroke's misses of the
+    earlier stroke curves it crossed (those found before a rejection, when it is rejected)."""
     old = net.clone()
     net.take_log()
     work = _Work()
-    pts = np.array(stroke, dtype=float)
     try:
         if len(pts) < 2:
             raise StrokeRejectedError(f"it has {len(pts)} point(s) after filtering; a stroke needs at least 2")
@@ -106,7 +134,7 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
                                    "to the surface, or further from the curves it nearly touches")
     except ProgSurfError as err:
         net.restore(snap_state)
-        return StrokeRecord(index, "interior", "rejected", str(err), points=pts)
+        return StrokeRecord(index, "interior", "rejected", str(err), points=pts), work.misses
     created = tuple(r for kind, r in log if kind == "created" and r in net.region_ids)
     removed = tuple(r for kind, r in log if kind == "removed" and r in old.region_ids)
     note = f"{len(work.curve_ids)} straight piece(s); ends: {', '.join(work.ends)}"
@@ -117,7 +145,7 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
         note += f"; {splits} region(s) split along the old surface where it would have creased"
     return StrokeRecord(index, "interior", "accepted", note, np.vstack(work.pre_image),
                         tuple(work.curve_ids), created, removed, tuple(sorted(work.pulled)),
-                        tuple(work.ends), tuple(work.offsets), np.vstack(used))
+                        tuple(work.ends), tuple(work.offsets), np.vstack(used)), work.misses
 
 
 def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
@@ -147,14 +175,17 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
     if len(pts) < 2 or not np.ptp(pts, axis=0).max() > 0:
         # (a "closed" stroke of one repeated point splits into a piece of one point)
         raise StrokeRejectedError("it has no length: all its points are one point")
+    drawn = pts
     pts, first, last = trim_ends(net, pts, snap)
     start, end = end_of(net, first, pts[0], "first", snap), end_of(net, last, pts[-1], "last", snap)
+    work.misses.extend(end_misses(net, drawn, (first, last)))
     breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
     if breaks:
         # A gently bent pre-image can leave a later piece running along the extension of an
         # earlier one; then the whole stroke is taken as one straight piece instead.
         state = net.snapshot()
-        marks = (len(work.ends), len(work.offsets), len(work.curve_ids), len(work.pre_image), set(work.pulled))
+        marks = (len(work.ends), len(work.offsets), len(work.curve_ids), len(work.pre_image), set(work.pulled),
+                 len(work.misses))
         try:
             _insert_pieces(net, old, pts, start, end, [0] + breaks + [len(pts) - 1], index, tol, snap,
                            falloff, work)
@@ -162,6 +193,7 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
         except StrokeRunsAlongCurveError:
             net.restore(state)
             del work.ends[marks[0]:], work.offsets[marks[1]:], work.curve_ids[marks[2]:], work.pre_image[marks[3]:]
+            del work.misses[marks[5]:]
             work.pulled = marks[4]
     _insert_pieces(net, old, pts, start, end, [0, len(pts) - 1], index, tol, snap, falloff, work)
     return pts
@@ -183,6 +215,7 @@ def _insert_pieces(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start:
         work.offsets.extend([x.offset for x in (s, e)])
         cid = net.new_curve_id("stroke", index)
         work.curve_ids.append(cid)
-        pre_image, pulled = insert_piece(net, old, piece, s, e, cid, tol, snap, falloff)
+        pre_image, pulled, misses = insert_piece(net, old, piece, s, e, cid, tol, snap, falloff)
         work.pre_image.append(pre_image)
         work.pulled.update(pulled)
+        work.misses.extend(misses)

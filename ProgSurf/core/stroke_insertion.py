@@ -92,30 +92,36 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
 
 
 def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatArray, crossings: list,
-                 snap: float) -> tuple[list[tuple[float, int]], set]:
-    """Step (4): the nodes along the line, (t, node id) in order, and the ids of the interior
+                 snap: float) -> tuple[list[tuple[float, int]], set, list]:
+    """Step (4): the nodes along the line, (t, node id) in order, the ids of the interior
     curves pulled to the stroke (later strokes win): a crossed interior edge is split at the
-    stroke's point, a node the stroke goes through is moved onto it."""
+    stroke's point, a node the stroke goes through is moved onto it; and the misses: (stroke
+    point (3,), stroke point - curve point (3,)) where it crossed a curve made from a stroke."""
     nodes: list[tuple[float, int]] = []
     pulled: set = set()
+    misses: list = []
     for tk, nid, eid, se_k in crossing_nodes(net, crossings, p0, line, snap):
         at_end = tk <= 1e-6 or tk >= 1 - 1e-6
         stroke_xyz = full.evaluate(tk)
         if nid < 0:
             curve = net.edges()[eid].curve_id
             pull = not at_end and curve not in OUTER_CURVES
+            if pull and net.curve_info(curve)["kind"] == "stroke":
+                misses.append((stroke_xyz, stroke_xyz - net.edges()[eid].polyline.evaluate(se_k)))
             nid = net.split_edge(eid, se_k, stroke_xyz, pull)
             if pull:
                 pulled.add(curve)
         elif not at_end and not net.is_outer_node(nid):
-            net.move_node(nid, stroke_xyz)
             edges = net.edges()
-            pulled.update(edges[k].curve_id for k in net.incident_edges(nid)
-                          if edges[k].curve_id not in OUTER_CURVES)
+            curves = {edges[k].curve_id for k in net.incident_edges(nid)} - set(OUTER_CURVES)
+            if any(net.curve_info(c)["kind"] == "stroke" for c in curves):
+                misses.append((stroke_xyz, stroke_xyz - net.node_xyz(nid)))
+            net.move_node(nid, stroke_xyz)
+            pulled.update(curves)
         nodes.append((tk, nid))
     if len(nodes) < 2:
         raise StrokeRejectedError("its pre-image is shorter than the node spacing")
-    return nodes, pulled
+    return nodes, pulled, misses
 
 
 def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: list[tuple[float, int]],
@@ -145,16 +151,17 @@ def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: lis
 
 
 def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: StrokeEnd,
-                 curve_id: int, tol: Tolerances, snap: float, falloff: str) -> tuple[FloatArray, set]:
+                 curve_id: int, tol: Tolerances, snap: float, falloff: str) -> tuple[FloatArray, set, list]:
     """Steps (3)-(5) for one straight piece pts (n, 3) from start to end: extend, cross, pull,
     subdivide, rebuild, as curve curve_id. `old` is the network before the stroke. Returns the
-    pre-image line's ends (2, 2) and the ids of the earlier curves pulled to the piece."""
+    pre-image line's ends (2, 2), the ids of the earlier curves pulled to the piece and its misses
+    of the stroke curves it crossed (_place_nodes)."""
     full, p0, p1 = _piece_curve(net, pts, start, end, tol, snap, falloff)
     line = p1 - p0
     crossings = line_crossings(net, p0, p1)
-    nodes, pulled = _place_nodes(net, full, p0, line, crossings, snap)
+    nodes, pulled, misses = _place_nodes(net, full, p0, line, crossings, snap)
     _add_chords(net, old, full, nodes, curve_id, tol.made_sag_mm)
-    return np.array([p0, p1]), pulled
+    return np.array([p0, p1]), pulled, misses
 
 
 def make_three_or_four_sided(net: PatchNetwork, old: PatchNetwork, rid: int, a: int, b: int,
