@@ -10,7 +10,7 @@ A fold is what a designer sees as a fin, a tuck or an inverted face that no stro
 The built faces are checked at 60 and 90 deg (cad.analysis.folds); the network is held 5 deg
 inside those, since the B-spline faces follow the polyline sub-patches only within the fit.
 
-Normals come from central differences of the sub-patch (Eq. 1) in its local (s, r); a sample where
+Normals come from forward differences of the sub-patch (Eq. 1) in its local (s, r); a sample where
 a derivative vanishes (the collapsed side of a 3-sided region) has no normal and is skipped.
 Both sub-patches of a seam are parameterised from the same pre-image plane, so their normals are
 oriented alike and an inverted neighbour reads near 180 deg.
@@ -73,10 +73,9 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     starts = np.cumsum([0] + sizes[:-1])
     s = np.concatenate([np.asarray(jobs[i][1], dtype=float) for i in order])
     r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
-    s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
-    r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
-    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1), its sides
-    # evaluated once at each distinct s, s0, s1 and r, r0, r1 (a face's 9 x 9 grid has 9 of each)
+    # each region's samples as one block of three: (s, r), (s + h, r), (s, r + h) (h = -_STEP at
+    # the far side), its sides evaluated once at each distinct s, s + h and r, r + h (a face's
+    # 9 x 9 grid has 9 of each)
     blocks, first, count, at = [], [], [], 0
     distinct: dict = {}
     for rid, held in by_region.items():
@@ -84,17 +83,15 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
         a, b = at, at + m
         (sv, si), (rv, ri) = (_distinct_values([jobs[i][k] for i in held], distinct) for k in (1, 2))
         ns, nr = len(sv), len(rv)
-        blocks.append((rid, np.concatenate([clip01(sv - _STEP), clip01(sv + _STEP), sv]),
-                       np.concatenate([rv, clip01(rv - _STEP), clip01(rv + _STEP)]),
-                       np.concatenate([si, ns + si, 2 * ns + si, 2 * ns + si]),
-                       np.concatenate([ri, ri, nr + ri, 2 * nr + ri])))
-        first.append(4 * a + np.arange(m))
+        blocks.append((rid, np.concatenate([sv, _stepped(sv)]), np.concatenate([rv, _stepped(rv)]),
+                       np.concatenate([si, ns + si, si]), np.concatenate([ri, ri, nr + ri])))
+        first.append(3 * a + np.arange(m))
         count.append(np.full(m, m))
         at = b
     p = net.evaluate_regions_indexed(blocks)
     i0, m = np.concatenate(first), np.concatenate(count)
-    du = (p[i0 + m] - p[i0]) / (s1 - s0)[:, None]
-    dv = (p[i0 + 3 * m] - p[i0 + 2 * m]) / (r1 - r0)[:, None]
+    du = (p[i0 + m] - p[i0]) / (_stepped(s) - s)[:, None]
+    dv = (p[i0 + 2 * m] - p[i0]) / (_stepped(r) - r)[:, None]
     n = np.cross(du, dv)
     lu, lv, ln = (np.linalg.norm(x, axis=1) for x in (du, dv, n))
 
@@ -111,6 +108,11 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     for i, a, k in zip(order, starts, sizes):
         out[i] = (unit[a:a + k], ok[a:a + k])
     return out
+
+
+def _stepped(x: FloatArray) -> FloatArray:
+    """x + _STEP, or x - _STEP where that would leave [0, 1]: a forward difference's other point."""
+    return np.where(x + _STEP <= 1.0, x + _STEP, x - _STEP)
 
 
 def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
@@ -135,8 +137,8 @@ def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
 
 
 def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    """Unit normals (k, 3) of region rid's sub-patch at local (s, r) (k,), by central differences
-    of step _STEP (one-sided at the sides), and which are defined."""
+    """Unit normals (k, 3) of region rid's sub-patch at local (s, r) (k,), by forward differences
+    of step _STEP (backward at the far sides), and which are defined."""
     return normal_sets(net, [(rid, s, r)])[0]
 
 
@@ -177,11 +179,9 @@ def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
     grid FACE_INSET in from the sides where the built face's check samples
     (cad.analysis.face_turn_deg): a tuck narrower than the first grid's step can turn over there
     (famG octant_8: 72 deg on the sides' grid, 156 deg on the inset one, a fold of the built face)."""
-    out = []
-    for lo in (0.0, FACE_INSET):
-        g = np.linspace(lo, 1.0 - lo, n)
-        out.append([a.ravel() for a in np.meshgrid(g, g, indexing="ij")])
-    return np.concatenate([out[0][0], out[1][0]]), np.concatenate([out[0][1], out[1][1]])
+    g = np.linspace(FACE_INSET, 1.0 - FACE_INSET, n)
+    s, r = np.meshgrid(g, g, indexing="ij")
+    return s.ravel(), r.ravel()
 
 
 def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
@@ -209,6 +209,43 @@ def seam_angle_deg(net, eid: int, regions: tuple, n: int = SEAM_SAMPLES) -> floa
     return _seam_angle([region_normals(net, rid, *net.uv_to_local(rid, uv)) for rid in regions])
 
 
+_SIDES = ((0, 1), (1, 2), (3, 2), (0, 3))
+"""A region's sides as corner pairs (bottom c0->c1, right c1->c2, top c3->c2, left c0->c3): on each
+the bilinear map of the corners (NetworkSurface.local_to_uv) is linear, (s, 0), (1, r), (s, 1), (0, r)."""
+
+
+def seam_local(net, jobs: Sequence[tuple[int, object, FloatArray]]) -> list[tuple[FloatArray, FloatArray]]:
+    """Local (s, r) in region rid of pre-image points uv (k, 2) on one of its edges, for each (rid,
+    edge view, uv): net.uv_to_local's values without its Newton iterations. The edge lies on one
+    side of the region (a straight line in the pre-image), where the bilinear map is linear: s or r
+    is the point's share along that side, the other 0 or 1 (most of a stroke's fold checks went to
+    inverting these seam samples)."""
+    if not jobs:
+        return []
+    corners: dict = {}
+    for rid, _, _ in jobs:
+        if rid not in corners:
+            ids, _ = net.region_corners(rid)
+            corners[rid] = [net.node_uv(n) for n in ids]
+    c = np.array([corners[rid] for rid, _, _ in jobs], dtype=float)                 # (J, 4, 2)
+    ends = np.array([(e.uv0, e.uv1) for _, e, _ in jobs], dtype=float)            # (J, 2, 2)
+    i, j = np.array(_SIDES).T
+    a, d = c[:, i], c[:, j] - c[:, i]                                             # (J, 4, 2)
+    length = np.hypot(d[..., 0], d[..., 1])
+    rel = ends[:, None, :, :] - a[:, :, None, :]                                  # (J, 4, 2, 2)
+    off = np.abs(d[:, :, None, 0] * rel[..., 1] - d[:, :, None, 1] * rel[..., 0]).max(axis=2)
+    off = np.where(length > 0.0, off / np.where(length > 0.0, length, 1.0), np.inf)
+    pick = off.argmin(axis=1)                                                     # (J,)
+    rows = np.arange(len(jobs))
+    a, d = a[rows, pick], d[rows, pick]                                           # (J, 2)
+    uv = np.array([np.asarray(p, dtype=float).reshape(-1, 2) for _, _, p in jobs])  # (J, k, 2)
+    f = clip01(np.einsum("jkc,jc->jk", uv - a[:, None, :], d) / np.einsum("jc,jc->j", d, d)[:, None])
+    fixed = np.where(np.isin(pick, (0, 3)), 0.0, 1.0)[:, None] * np.ones_like(f)
+    along_s = np.isin(pick, (0, 2))[:, None]
+    s_out, r_out = np.where(along_s, f, fixed), np.where(along_s, fixed, f)
+    return list(zip(s_out, r_out))
+
+
 def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Iterable[int] = ()) -> list[Fold]:
     """Every fold of the network among ``regions`` (default: all) and the seams they share with
     any neighbour. ``sharp_curves``: curves drawn sharp, whose seams may crease.
@@ -224,7 +261,7 @@ def find_folds(net, regions: Optional[Iterable[int]] = None, sharp_curves: Itera
     faces = sorted(todo)
     pairs = [(eid, rid) for eid, owners in seams for rid in owners]
     uv = dict(zip([eid for eid, _ in seams], _seam_uv([edges[eid] for eid, _ in seams], SEAM_SAMPLES)))
-    local = net.uv_to_local_sets([(rid, uv[eid]) for eid, rid in pairs])
+    local = seam_local(net, [(rid, edges[eid], uv[eid]) for eid, rid in pairs])
     grid = _face_samples()
     got = normal_sets(net, [(rid, *grid) for rid in faces]
                       + [(rid, s, r) for (_, rid), (s, r) in zip(pairs, local)])

@@ -33,18 +33,19 @@ SPREAD = 0.5
 STEP = 1e-4
 
 
-def may_be_off(misses: Sequence[tuple[FloatArray, FloatArray]], snap: float) -> bool:
+def may_be_off(misses: Sequence[tuple], snap: float) -> bool:
     """Whether the misses could say drawn off (drawn_off), by their lengths alone: the cheap test
     every stroke takes before the surface normals are looked up."""
     if len(misses) < MIN_CROSSINGS:
         return False
-    size = np.linalg.norm(np.array([v for _, v in misses], dtype=float), axis=1)
+    size = np.linalg.norm(np.array([x[1] for x in misses], dtype=float), axis=1)
     return bool(size.mean() >= OFF_RANGE[0] * snap * (1.0 - SPREAD))
 
 
-def drawn_off(misses: Sequence[tuple[FloatArray, FloatArray]], normals: FloatArray, snap: float) -> Optional[float]:
-    """The mean miss (mm) when the misses ((stroke point (3,), stroke point - curve point (3,))
-    where it crossed an earlier stroke curve or snapped to a drawn curve) say the stroke was drawn
+def drawn_off(misses: Sequence[tuple], normals: FloatArray, snap: float) -> Optional[float]:
+    """The mean miss (mm) when the misses ((stroke point (3,), stroke point - curve point (3,), and
+    its pre-image point (2,) where given) where it crossed an earlier stroke curve or snapped to a
+    drawn curve) say the stroke was drawn
     off the surface, else None. normals (k, 3): the surface's unit normal at each curve point.
 
     Drawn off: at least MIN_CROSSINGS misses, each along its normal on the same side, each within
@@ -52,7 +53,7 @@ def drawn_off(misses: Sequence[tuple[FloatArray, FloatArray]], normals: FloatArr
     surface that curves turns its normal, and a stroke held off it turns its misses alike.)"""
     if len(misses) < MIN_CROSSINGS:
         return None
-    m = np.array([v for _, v in misses], dtype=float)
+    m = np.array([x[1] for x in misses], dtype=float)
     along = np.einsum("ij,ij->i", m, np.asarray(normals, dtype=float))
     mean = float(along.mean())
     size = abs(mean)
@@ -63,11 +64,10 @@ def drawn_off(misses: Sequence[tuple[FloatArray, FloatArray]], normals: FloatArr
     return size
 
 
-def normals_at(net, points: FloatArray) -> FloatArray:
-    """Unit normals (k, 3) of the network's surface at its points nearest `points` (k, 3) (their
-    footpoints), by differences of STEP in the pre-image."""
-    uv = np.array([net.footpoint(np.asarray(p, dtype=float)).uv for p in points], dtype=float)
-    uv = np.clip(uv, 0.0, 1.0)
+def normals_at(net, uv: FloatArray) -> FloatArray:
+    """Unit normals (k, 3) of the network's surface at pre-image points uv (k, 2), by differences
+    of STEP in the pre-image."""
+    uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
     h = np.where(uv + STEP <= 1.0, STEP, -STEP)
     zero = np.zeros(len(uv))
     p, pu, pv = net.evaluate_uv_sets([uv, uv + np.column_stack([h[:, 0], zero]),
@@ -76,7 +76,7 @@ def normals_at(net, points: FloatArray) -> FloatArray:
     return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
 
 
-def as_drawn(pts: FloatArray, misses: Sequence[tuple[FloatArray, FloatArray]], reach: float) -> list:
+def as_drawn(pts: FloatArray, misses: Sequence[tuple], reach: float) -> list:
     """The misses measured from the stroke as drawn, pts (n, 3): a crossing's stroke point is on the
     stroke as inserted, whose snapped ends already run into their snap points (stroke_ends.run_into),
     so its miss is short by that ramp there. Each (p, v) becomes (q, m): q the point of pts nearest
@@ -87,7 +87,7 @@ def as_drawn(pts: FloatArray, misses: Sequence[tuple[FloatArray, FloatArray]], r
     pts = np.asarray(pts, dtype=float)
     run = cumulative_length(pts)
     out = []
-    for p, v in misses:
+    for p, v, uv in misses:
         w, d = segment_projections(np.asarray(p, dtype=float)[None, :], pts)
         k = int(d[0].argmin())
         q = pts[k] + w[0, k] * (pts[k + 1] - pts[k])
@@ -99,11 +99,11 @@ def as_drawn(pts: FloatArray, misses: Sequence[tuple[FloatArray, FloatArray]], r
         length = float(np.linalg.norm(chord))
         if length > 0.0:
             m = m - (m @ chord) / length**2 * chord
-        out.append((q, m))
+        out.append((q, m, uv))
     return out
 
 
-def onto_crossings(pts: FloatArray, misses: Sequence[tuple[FloatArray, FloatArray]],
+def onto_crossings(pts: FloatArray, misses: Sequence[tuple],
                    normals: Optional[FloatArray] = None) -> FloatArray:
     """pts (n, 3) moved onto the curves it crossed: at each crossing (the stroke point nearest it)
     by minus its miss (its part along the surface normal there, with normals (k, 3)), linearly in
@@ -111,7 +111,7 @@ def onto_crossings(pts: FloatArray, misses: Sequence[tuple[FloatArray, FloatArra
     pts = np.asarray(pts, dtype=float)
     run = cumulative_length(pts)
     at, shift = [], []
-    for p, v in misses:
+    for p, v, *_ in misses:
         w, d = segment_projections(np.asarray(p, dtype=float)[None, :], pts)
         k = int(d[0].argmin())
         at.append(run[k] + float(np.clip(w[0, k], 0.0, 1.0)) * (run[k + 1] - run[k]))
@@ -128,7 +128,7 @@ def onto_crossings(pts: FloatArray, misses: Sequence[tuple[FloatArray, FloatArra
 def end_misses(net, pts: FloatArray, snaps: Sequence) -> list:
     """The misses of a stroke's snapped ends (stroke_ends.trim_ends: (j, edge, t, snap point) or
     None per end) whose edge is a drawn curve (the boundary's or a stroke's): (the stroke's point
-    nearest the snap point (3,), that point - the snap point (3,))."""
+    nearest the snap point (3,), that point - the snap point (3,), the snap point's pre-image (2,))."""
     out = []
     edges = net.edges()
     for sn in snaps:
@@ -138,5 +138,6 @@ def end_misses(net, pts: FloatArray, snaps: Sequence) -> list:
         w, d = segment_projections(target[None, :], pts)
         k = int(d[0].argmin())
         q = pts[k] + w[0, k] * (pts[k + 1] - pts[k])
-        out.append((q, q - target))
+        e = edges[sn[1]]
+        out.append((q, q - target, e.uv0 + sn[2] * (e.uv1 - e.uv0)))
     return out

@@ -133,3 +133,21 @@ def test_a_tuck_is_a_fold_though_the_mean_normal_hardly_moves():
     assert tuck_deg(strip_n, ok[:41], strip_p, reach) < 20.0
     # normals that are not defined (a collapsed side) are left out
     assert tuck_deg(normals, np.arange(len(points)) < 41, points, reach) < 20.0
+
+
+def test_seam_local_gives_the_inverse_bilinear_values_on_every_seam():
+    """folds.seam_local (the fold checks' seam samples, linear along a region's side) against the
+    network's Newton inverse of the bilinear map, on every seam of a grown random network."""
+    from benchmarks import latency
+    from ProgSurf.core.folds import SEAM_SAMPLES, _seam_uv, seam_local
+
+    nets, _ = latency.grow([20])
+    net = nets[20]
+    edges = net.edges()
+    jobs = [(rid, edges[eid]) for eid, owners in net.edge_regions().items() for rid in owners]
+    assert len(jobs) > 40
+    uv = _seam_uv([e for _, e in jobs], SEAM_SAMPLES)
+    fast = seam_local(net, [(rid, e, p) for (rid, e), p in zip(jobs, uv)])
+    slow = net.uv_to_local_sets([(rid, p) for (rid, _), p in zip(jobs, uv)])
+    worst = max(float(np.abs(np.concatenate(a) - np.concatenate(b)).max()) for a, b in zip(fast, slow))
+    assert worst < 1e-9
