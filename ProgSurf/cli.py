@@ -31,6 +31,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .core.errors import InvalidOptionError, ProgSurfError, StrokeFileError
+from .core.off_surface import moved_note
 from .core.types import FIT_FRACTION, Tolerances
 from .io.c3d import MIN_DURATION_S, MIN_LENGTH_MM
 
@@ -416,6 +417,8 @@ def summary(report: dict) -> str:
              f"poles per face max {max((p['u_poles'] * p['v_poles'] for p in report['poles_per_face']), default=0)}"]
     lines += [f"  stroke {s['index']} ({s['role']}) rejected: {s['reason']}" for s in strokes
               if s["status"] == "rejected"]
+    lines += [f"  stroke {s['index']} ({s['role']}) accepted; {moved_note(s['reason'])}"
+              for s in strokes if s["status"] == "accepted" and moved_note(s["reason"] or "")]
     lines.append("wrote " + ", ".join(report["outputs"].values()))
     if "quality" in report:
         lines.append(report["quality"]["verdict"])

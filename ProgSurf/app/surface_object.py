@@ -20,6 +20,7 @@ import FreeCAD
 import Part
 
 from ProgSurf.core.errors import ProgSurfError
+from ProgSurf.core.off_surface import moved_note
 from ProgSurf.core.types import Tolerances
 
 from . import stroke_object
@@ -139,6 +140,10 @@ class SurfaceProxy(FeatureProxy):
         for record in outcome.result.records:
             stroke_object.set_result(strokes[record.index], record.role, record.status,
                                      record.reason or "")
+            moved = moved_note(record.reason or "") if record.status == "accepted" else None
+            if moved:
+                FreeCAD.Console.PrintMessage(f"ProgSurf: {obj.Label}: stroke {strokes[record.index].Label} "
+                                             f"accepted; {moved}\n")
         release_unused_strokes(obj.Document)
         obj.Shape = outcome.shape
         obj.PatchCount = len(outcome.result.network.regions())

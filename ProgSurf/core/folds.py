@@ -175,10 +175,11 @@ def tuck_deg(normals: FloatArray, ok: np.ndarray, points: FloatArray, reach: flo
 
 
 def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
-    """Local (s, r) over a region, (2*n*n,) each: an n x n grid from side to side, and the n x n
-    grid FACE_INSET in from the sides where the built face's check samples
-    (cad.analysis.face_turn_deg): a tuck narrower than the first grid's step can turn over there
-    (famG octant_8: 72 deg on the sides' grid, 156 deg on the inset one, a fold of the built face)."""
+    """Local (s, r) over a region, (n*n,) each: the n x n grid FACE_INSET in from the sides, where
+    the built face's check samples (cad.analysis.face_turn_deg): a tuck narrower than the step of a
+    grid from side to side can turn over between its lines (famG octant_8: 72 deg on such a grid,
+    156 deg on the inset one, a fold of the built face). Along the sides the seams' checks look (a
+    second grid from side to side, as before b5697fd, was half of a stroke's fold checks)."""
     g = np.linspace(FACE_INSET, 1.0 - FACE_INSET, n)
     s, r = np.meshgrid(g, g, indexing="ij")
     return s.ravel(), r.ravel()

@@ -27,6 +27,11 @@ import numpy as np
 from .strokes import cumulative_length, segment_projections
 from .types import FloatArray
 
+NOTE_START = "it missed the "
+NOTE_END = "(drawn off the surface): moved onto them"
+"""An accepted stroke's note (StrokeRecord.reason) ends "...; it missed the N drawn curves it meets by
+X mm alike (drawn off the surface): moved onto them" when it was moved (moved_note)."""
+
 MIN_CROSSINGS = 2
 OFF_RANGE = (0.5, 1.0)
 SPREAD = 0.5
@@ -141,3 +146,15 @@ def end_misses(net, pts: FloatArray, snaps: Sequence) -> list:
         e = edges[sn[1]]
         out.append((q, q - target, e.uv0 + sn[2] * (e.uv1 - e.uv0)))
     return out
+
+
+def note(count: int, off_mm: float) -> str:
+    """The part of an accepted stroke's note that says it was moved onto the surface."""
+    return f"{NOTE_START}{count} drawn curves it meets by {off_mm:.3g} mm alike {NOTE_END}"
+
+
+def moved_note(reason: str) -> Optional[str]:
+    """The "it missed ... moved onto them" part of a stroke's note, or None when it was not moved."""
+    if not reason.endswith(NOTE_END) or NOTE_START not in reason:
+        return None
+    return reason[reason.rindex(NOTE_START):]

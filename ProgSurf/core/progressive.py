@@ -19,6 +19,7 @@ from .errors import (ProgSurfError, StrokeFoldsError, StrokeOutsideSurfaceError,
                      StrokeRunsAlongCurveError)
 from .fold_repair import repair_folds
 from .network import PatchNetwork
+from . import off_surface
 from .off_surface import as_drawn, drawn_off, end_misses, may_be_off, normals_at, onto_crossings
 from .stroke_ends import StrokeEnd, end_of, placed_end, trim_ends
 from .stroke_insertion import insert_piece
@@ -99,9 +100,7 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
         # drawn keeps what it did
         again, _ = _add_once(net, onto_crossings(pts, misses, normals), index, tol, snap, falloff, snap_state)
         if again.status == "accepted":
-            return replace(again, reason=again.reason + (
-                f"; it missed the {len(misses)} drawn curves it meets by {off:.3g} mm alike (drawn off "
-                "the surface): moved onto them"))
+            return replace(again, reason=again.reason + "; " + off_surface.note(len(misses), off))
     net.restore(first)
     return rec
 

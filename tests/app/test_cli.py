@@ -174,3 +174,28 @@ def test_skin_writes_one_exchange_surface_on_the_patches(tmp_path):
     # the exchange surface spans the same area as the patches (to the skin's own deviation)
     patches = Part.read(str(step))
     assert skin.Area == pytest.approx(patches.Area, rel=1e-3)
+
+
+def test_a_stroke_drawn_off_the_surface_is_moved_onto_it_and_the_summary_says_so(tmp_path):
+    """A flat 100 mm square, two sections on it, and a third stroke across them drawn 2 mm above
+    the plane all along (the snap distance is 2.8 mm): it is put on the plane and its line says so;
+    the report's note for it is the same."""
+    t = np.linspace(0.0, 1.0, 41)[:, None]
+    o = np.zeros_like(t)
+    strokes = [np.hstack([100 * t, o, o]), np.hstack([100 + o, 100 * t, o]),
+               np.hstack([100 - 100 * t, 100 + o, o]), np.hstack([o, 100 - 100 * t, o]),
+               np.hstack([30 + o, 100 * t, o]), np.hstack([70 + o, 100 * t, o]),
+               np.hstack([-1 + 102 * t, 50 + o, 2 + o])]
+    path = tmp_path / "lifted.xyz"
+    path.write_text("\n\n".join("\n".join(" ".join(f"{v:.6f}" for v in p) for p in s) for s in strokes) + "\n")
+    out = run("build", str(path), "-o", str(tmp_path / "lifted.step"), "--report", str(tmp_path / "r.json"))
+    assert out.returncode == 0, out.stderr
+    line = next(x for x in out.stdout.splitlines() if x.startswith("  stroke 6 "))
+    assert "accepted; it missed the" in line and "by 2 mm alike (drawn off the surface): moved onto them" in line
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert line.split("accepted; ")[1] in report["strokes"][6]["reason"]
+    # the surface stays on the plane (pulled to the stroke as drawn, it would rise 2 mm)
+    import FreeCAD  # noqa: F401  (before Part)
+    import Part
+    box = Part.read(str(tmp_path / "lifted.step")).BoundBox
+    assert max(abs(box.ZMin), abs(box.ZMax)) < 0.01
