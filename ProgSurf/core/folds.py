@@ -175,14 +175,18 @@ def tuck_deg(normals: FloatArray, ok: np.ndarray, points: FloatArray, reach: flo
 
 
 def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
-    """Local (s, r) over a region, (n*n,) each: the n x n grid FACE_INSET in from the sides, where
-    the built face's check samples (cad.analysis.face_turn_deg): a tuck narrower than the step of a
-    grid from side to side can turn over between its lines (famG octant_8: 72 deg on such a grid,
-    156 deg on the inset one, a fold of the built face). Along the sides the seams' checks look (a
-    second grid from side to side, as before b5697fd, was half of a stroke's fold checks)."""
-    g = np.linspace(FACE_INSET, 1.0 - FACE_INSET, n)
-    s, r = np.meshgrid(g, g, indexing="ij")
-    return s.ravel(), r.ravel()
+    """Local (s, r) over a region, (2*n*n,) each: an n x n grid from side to side, and the n x n
+    grid FACE_INSET in from the sides where the built face's check samples
+    (cad.analysis.face_turn_deg): a tuck narrower than the first grid's step can turn over there
+    (famG octant_8: 72 deg on the sides' grid, 156 deg on the inset one, a fold of the built face).
+    Both are kept: with the inset grid alone (b5697fd) fuselage1 kept a stroke (13) that, with
+    both, turns a region over 136 deg and is rejected, while the same sketch rotated rejected it
+    (tests/core/test_invariance_real.py)."""
+    out = []
+    for lo in (0.0, FACE_INSET):
+        g = np.linspace(lo, 1.0 - lo, n)
+        out.append([a.ravel() for a in np.meshgrid(g, g, indexing="ij")])
+    return np.concatenate([out[0][0], out[1][0]]), np.concatenate([out[0][1], out[1][1]])
 
 
 def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
@@ -206,8 +210,10 @@ def _seam_angle(sides: list[tuple[FloatArray, np.ndarray]]) -> float:
 
 def seam_angle_deg(net, eid: int, regions: tuple, n: int = SEAM_SAMPLES) -> float:
     """Largest angle (deg) between the normals of the two regions along edge eid, 5 %..95 %."""
-    uv = _seam_uv([net.edges()[eid]], n)[0]
-    return _seam_angle([region_normals(net, rid, *net.uv_to_local(rid, uv)) for rid in regions])
+    edge = net.edges()[eid]
+    uv = _seam_uv([edge], n)[0]
+    local = seam_local(net, [(rid, edge, uv) for rid in regions])
+    return _seam_angle([region_normals(net, rid, s, r) for rid, (s, r) in zip(regions, local)])
 
 
 _SIDES = ((0, 1), (1, 2), (3, 2), (0, 3))
