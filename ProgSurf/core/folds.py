@@ -10,7 +10,7 @@ A fold is what a designer sees as a fin, a tuck or an inverted face that no stro
 The built faces are checked at 60 and 90 deg (cad.analysis.folds); the network is held 5 deg
 inside those, since the B-spline faces follow the polyline sub-patches only within the fit.
 
-Normals come from forward differences of the sub-patch (Eq. 1) in its local (s, r); a sample where
+Normals come from central differences of the sub-patch (Eq. 1) in its local (s, r); a sample where
 a derivative vanishes (the collapsed side of a 3-sided region) has no normal and is skipped.
 Both sub-patches of a seam are parameterised from the same pre-image plane, so their normals are
 oriented alike and an inverted neighbour reads near 180 deg.
@@ -73,9 +73,12 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     starts = np.cumsum([0] + sizes[:-1])
     s = np.concatenate([np.asarray(jobs[i][1], dtype=float) for i in order])
     r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
-    # each region's samples as one block of three: (s, r), (s + h, r), (s, r + h) (h = -_STEP at
-    # the far side), its sides evaluated once at each distinct s, s + h and r, r + h (a face's
-    # 9 x 9 grid has 9 of each)
+    s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
+    r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
+    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1), its sides
+    # evaluated once at each distinct s, s0, s1 and r, r0, r1 (a face's 9 x 9 grid has 9 of each).
+    # (Forward differences, three points a sample, were tried in b5697fd: near a collapsed apex
+    # they read a region of three_sided 98 deg turned over where central ones read under 85.)
     blocks, first, count, at = [], [], [], 0
     distinct: dict = {}
     for rid, held in by_region.items():
@@ -83,15 +86,17 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
         a, b = at, at + m
         (sv, si), (rv, ri) = (_distinct_values([jobs[i][k] for i in held], distinct) for k in (1, 2))
         ns, nr = len(sv), len(rv)
-        blocks.append((rid, np.concatenate([sv, _stepped(sv)]), np.concatenate([rv, _stepped(rv)]),
-                       np.concatenate([si, ns + si, si]), np.concatenate([ri, ri, nr + ri])))
-        first.append(3 * a + np.arange(m))
+        blocks.append((rid, np.concatenate([clip01(sv - _STEP), clip01(sv + _STEP), sv]),
+                       np.concatenate([rv, clip01(rv - _STEP), clip01(rv + _STEP)]),
+                       np.concatenate([si, ns + si, 2 * ns + si, 2 * ns + si]),
+                       np.concatenate([ri, ri, nr + ri, 2 * nr + ri])))
+        first.append(4 * a + np.arange(m))
         count.append(np.full(m, m))
         at = b
     p = net.evaluate_regions_indexed(blocks)
     i0, m = np.concatenate(first), np.concatenate(count)
-    du = (p[i0 + m] - p[i0]) / (_stepped(s) - s)[:, None]
-    dv = (p[i0 + 2 * m] - p[i0]) / (_stepped(r) - r)[:, None]
+    du = (p[i0 + m] - p[i0]) / (s1 - s0)[:, None]
+    dv = (p[i0 + 3 * m] - p[i0 + 2 * m]) / (r1 - r0)[:, None]
     n = np.cross(du, dv)
     lu, lv, ln = (np.linalg.norm(x, axis=1) for x in (du, dv, n))
 
@@ -108,11 +113,6 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     for i, a, k in zip(order, starts, sizes):
         out[i] = (unit[a:a + k], ok[a:a + k])
     return out
-
-
-def _stepped(x: FloatArray) -> FloatArray:
-    """x + _STEP, or x - _STEP where that would leave [0, 1]: a forward difference's other point."""
-    return np.where(x + _STEP <= 1.0, x + _STEP, x - _STEP)
 
 
 def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
@@ -137,8 +137,8 @@ def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
 
 
 def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    """Unit normals (k, 3) of region rid's sub-patch at local (s, r) (k,), by forward differences
-    of step _STEP (backward at the far sides), and which are defined."""
+    """Unit normals (k, 3) of region rid's sub-patch at local (s, r) (k,), by central differences
+    of step _STEP (one-sided at the sides), and which are defined."""
     return normal_sets(net, [(rid, s, r)])[0]
 
 
