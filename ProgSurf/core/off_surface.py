@@ -69,10 +69,14 @@ def drawn_off(misses: Sequence[tuple], normals: FloatArray, snap: float) -> Opti
     return size
 
 
-def normals_at(net, uv: FloatArray) -> FloatArray:
-    """Unit normals (k, 3) of the network's surface at pre-image points uv (k, 2), by differences
-    of STEP in the pre-image."""
-    uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
+def normals_at(net, points: FloatArray) -> FloatArray:
+    """Unit normals (k, 3) of the network's surface at its points nearest `points` (k, 3) (their
+    footpoints), by differences of STEP in the pre-image. (Not at the pre-image point where the stroke
+    met the curve: on a 3-sided patch that can be the collapsed apex, where no normal is defined;
+    a8fdf73 tried it and the octants' deviation from the truth went from 0.17-0.19 to 0.49-0.59 %
+    on two sketches of seed base 17000.)"""
+    uv = np.array([net.footpoint(np.asarray(p, dtype=float)).uv for p in points], dtype=float)
+    uv = np.clip(uv, 0.0, 1.0)
     h = np.where(uv + STEP <= 1.0, STEP, -STEP)
     zero = np.zeros(len(uv))
     p, pu, pv = net.evaluate_uv_sets([uv, uv + np.column_stack([h[:, 0], zero]),
