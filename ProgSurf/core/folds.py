@@ -314,14 +314,19 @@ def _seam_angles(sides: list[list[tuple[FloatArray, np.ndarray]]]) -> list[float
     return [float(a) if any_ok else 0.0 for a, any_ok in zip(worst, ok.any(axis=1))]
 
 
-def surface_turn_deg(net, uv: FloatArray) -> float:
-    """Largest angle (deg) between a normal of the network's surface at pre-image points uv (k, 2)
-    and their mean normal: how much the surface itself turns over that part of the pre-image."""
+def surface_normal_vectors(net, uv: FloatArray) -> FloatArray:
+    """Normal vectors (k, 3), not unit, of the network's surface at pre-image points uv (k, 2): the
+    cross product of its differences of _STEP in the pre-image (backward at the far sides)."""
     uv = np.clip(np.asarray(uv, dtype=float).reshape(-1, 2), 0.0, 1.0)
     h = np.where(uv + _STEP <= 1.0, _STEP, -_STEP)
     p, pu, pv = net.evaluate_uv_sets([uv, uv + np.column_stack([h[:, 0], 0 * h[:, 0]]),
                                       uv + np.column_stack([0 * h[:, 1], h[:, 1]])])
     du = (pu - p) / h[:, :1]
     dv = (pv - p) / h[:, 1:]
-    normals, ok = _unit(np.cross(du, dv))
-    return turn_from_mean_deg(normals, ok)
+    return np.cross(du, dv)
+
+
+def surface_turn_deg(net, uv: FloatArray) -> float:
+    """Largest angle (deg) between a normal of the network's surface at pre-image points uv (k, 2)
+    and their mean normal: how much the surface itself turns over that part of the pre-image."""
+    return turn_from_mean_deg(*_unit(surface_normal_vectors(net, uv)))

@@ -12,9 +12,8 @@ diagonal with it and 0.16 % with it left out (seed base 17000, 18 sketches).
 So when a stroke misses the drawn curves it meets (the earlier strokes it crosses, and the
 boundary or stroke curve a snapped end runs into) at least ``MIN_CROSSINGS`` times, all on one
 side of the surface, each miss along the surface's normal within ``SPREAD`` of their mean and that
-mean between ``OFF_RANGE`` snap distances (more than drawing noise, less than the distance within which ends snap anyway), it is
-read as drawn off the surface:
-it is moved onto the curves it crosses (each miss removed where it crossed, spread linearly between
+mean between ``OFF_RANGE`` snap distances (more than drawing noise, less than the distance within
+which ends snap anyway), it is read as drawn off the surface: it is moved onto the curves it crosses (each miss removed where it crossed, spread linearly between
 the crossings, held beyond the first and last) and added again. A stroke drawn further off than the
 snap distance, or unevenly, or across fewer curves, reshapes the surface as the paper has it.
 """
@@ -24,7 +23,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .strokes import cumulative_length, segment_projections
+from .folds import surface_normal_vectors
+from .strokes import cumulative_length, point_at_length, segment_projections
 from .types import FloatArray
 
 NOTE_START = "it missed the "
@@ -35,7 +35,6 @@ X mm alike (drawn off the surface): moved onto them" when it was moved (moved_no
 MIN_CROSSINGS = 2
 OFF_RANGE = (0.5, 1.0)
 SPREAD = 0.5
-STEP = 1e-4
 
 
 def may_be_off(misses: Sequence[tuple], snap: float) -> bool:
@@ -48,10 +47,9 @@ def may_be_off(misses: Sequence[tuple], snap: float) -> bool:
 
 
 def drawn_off(misses: Sequence[tuple], normals: FloatArray, snap: float) -> Optional[float]:
-    """The mean miss (mm) when the misses ((stroke point (3,), stroke point - curve point (3,), and
-    its pre-image point (2,) where given) where it crossed an earlier stroke curve or snapped to a
-    drawn curve) say the stroke was drawn
-    off the surface, else None. normals (k, 3): the surface's unit normal at each curve point.
+    """The mean miss (mm) when the misses ((stroke point (3,), stroke point - curve point (3,)) where
+    it crossed an earlier stroke curve or snapped to a drawn curve) say the stroke was drawn off the
+    surface, else None. normals (k, 3): the surface's unit normal at each curve point.
 
     Drawn off: at least MIN_CROSSINGS misses, each along its normal on the same side, each within
     SPREAD of their mean, and the mean within OFF_RANGE snap distances. (Along the normal: a
@@ -71,18 +69,21 @@ def drawn_off(misses: Sequence[tuple], normals: FloatArray, snap: float) -> Opti
 
 def normals_at(net, points: FloatArray) -> FloatArray:
     """Unit normals (k, 3) of the network's surface at its points nearest `points` (k, 3) (their
-    footpoints), by differences of STEP in the pre-image. (Not at the pre-image point where the stroke
-    met the curve: on a 3-sided patch that can be the collapsed apex, where no normal is defined;
-    a8fdf73 tried it and the octants' deviation from the truth went from 0.17-0.19 to 0.49-0.59 %
-    on two sketches of seed base 17000.)"""
+    footpoints), from folds.surface_normal_vectors. (Not at the pre-image point where the stroke met the
+    curve: on a 3-sided patch that can be the collapsed apex, where no normal is defined; a8fdf73
+    tried it and the octants' deviation from the truth went from 0.17-0.19 to 0.49-0.59 % on two
+    sketches of seed base 17000.)"""
     uv = np.array([net.footpoint(np.asarray(p, dtype=float)).uv for p in points], dtype=float)
-    uv = np.clip(uv, 0.0, 1.0)
-    h = np.where(uv + STEP <= 1.0, STEP, -STEP)
-    zero = np.zeros(len(uv))
-    p, pu, pv = net.evaluate_uv_sets([uv, uv + np.column_stack([h[:, 0], zero]),
-                                      uv + np.column_stack([zero, h[:, 1]])])
-    n = np.cross((pu - p) / h[:, :1], (pv - p) / h[:, 1:])
+    n = surface_normal_vectors(net, uv)
     return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+
+
+def _nearest(pts: FloatArray, run: FloatArray, p: FloatArray) -> tuple[FloatArray, float]:
+    """The point of the polyline pts (n, 3) nearest p (3,), and its arc length (run: pts'
+    cumulative_length)."""
+    w, d = segment_projections(np.asarray(p, dtype=float)[None, :], pts)
+    k = int(d[0].argmin())
+    return pts[k] + w[0, k] * (pts[k + 1] - pts[k]), float(run[k] + w[0, k] * (run[k + 1] - run[k]))
 
 
 def as_drawn(pts: FloatArray, misses: Sequence[tuple], reach: float) -> list:
@@ -96,19 +97,15 @@ def as_drawn(pts: FloatArray, misses: Sequence[tuple], reach: float) -> list:
     pts = np.asarray(pts, dtype=float)
     run = cumulative_length(pts)
     out = []
-    for p, v, uv in misses:
-        w, d = segment_projections(np.asarray(p, dtype=float)[None, :], pts)
-        k = int(d[0].argmin())
-        q = pts[k] + w[0, k] * (pts[k + 1] - pts[k])
-        at = run[k] + w[0, k] * (run[k + 1] - run[k])
-        a = np.array([np.interp(max(at - reach, 0.0), run, pts[:, c]) for c in range(3)])
-        b = np.array([np.interp(min(at + reach, run[-1]), run, pts[:, c]) for c in range(3)])
+    for p, v in misses:
+        q, at = _nearest(pts, run, p)
+        a, b = point_at_length(pts, [at - reach, at + reach], run)
         m = q - (np.asarray(p, dtype=float) - np.asarray(v, dtype=float))
         chord = b - a
         length = float(np.linalg.norm(chord))
         if length > 0.0:
             m = m - (m @ chord) / length**2 * chord
-        out.append((q, m, uv))
+        out.append((q, m))
     return out
 
 
@@ -120,10 +117,8 @@ def onto_crossings(pts: FloatArray, misses: Sequence[tuple],
     pts = np.asarray(pts, dtype=float)
     run = cumulative_length(pts)
     at, shift = [], []
-    for p, v, *_ in misses:
-        w, d = segment_projections(np.asarray(p, dtype=float)[None, :], pts)
-        k = int(d[0].argmin())
-        at.append(run[k] + float(np.clip(w[0, k], 0.0, 1.0)) * (run[k + 1] - run[k]))
+    for p, v in misses:
+        at.append(_nearest(pts, run, p)[1])
         shift.append(-np.asarray(v, dtype=float))
     if normals is not None:
         normals = np.asarray(normals, dtype=float)
@@ -137,18 +132,16 @@ def onto_crossings(pts: FloatArray, misses: Sequence[tuple],
 def end_misses(net, pts: FloatArray, snaps: Sequence) -> list:
     """The misses of a stroke's snapped ends (stroke_ends.trim_ends: (j, edge, t, snap point) or
     None per end) whose edge is a drawn curve (the boundary's or a stroke's): (the stroke's point
-    nearest the snap point (3,), that point - the snap point (3,), the snap point's pre-image (2,))."""
+    nearest the snap point (3,), that point - the snap point (3,))."""
     out = []
     edges = net.edges()
+    run = cumulative_length(pts)
     for sn in snaps:
         if sn is None or net.curve_info(edges[sn[1]].curve_id)["kind"] not in ("outer", "stroke"):
             continue
         target = np.asarray(sn[3], dtype=float)
-        w, d = segment_projections(target[None, :], pts)
-        k = int(d[0].argmin())
-        q = pts[k] + w[0, k] * (pts[k + 1] - pts[k])
-        e = edges[sn[1]]
-        out.append((q, q - target, e.uv0 + sn[2] * (e.uv1 - e.uv0)))
+        q, _ = _nearest(pts, run, target)
+        out.append((q, q - target))
     return out
 
 

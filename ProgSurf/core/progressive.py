@@ -93,7 +93,7 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
     # drawn off the surface? (core.off_surface): the misses along the surface's normals before it
     first = net.snapshot()
     net.restore(snap_state)
-    normals = normals_at(net, [q - m for q, m, *_ in misses])
+    normals = normals_at(net, [q - m for q, m in misses])
     off = drawn_off(misses, normals, snap)
     if off is not None:
         # moved onto the strokes it crosses and added again; when that fails, the stroke as

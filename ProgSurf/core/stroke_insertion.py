@@ -96,8 +96,7 @@ def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatA
     """Step (4): the nodes along the line, (t, node id) in order, the ids of the interior
     curves pulled to the stroke (later strokes win): a crossed interior edge is split at the
     stroke's point, a node the stroke goes through is moved onto it; and the misses: (stroke
-    point (3,), stroke point - curve point (3,), pre-image point (2,)) where it crossed a curve
-    made from a stroke."""
+    point (3,), stroke point - curve point (3,)) where it crossed a curve made from a stroke."""
     nodes: list[tuple[float, int]] = []
     pulled: set = set()
     misses: list = []
@@ -108,7 +107,7 @@ def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatA
             curve = net.edges()[eid].curve_id
             pull = not at_end and curve not in OUTER_CURVES
             if pull and net.curve_info(curve)["kind"] == "stroke":
-                misses.append((stroke_xyz, stroke_xyz - net.edges()[eid].polyline.evaluate(se_k), p0 + tk * line))
+                misses.append((stroke_xyz, stroke_xyz - net.edges()[eid].polyline.evaluate(se_k)))
             nid = net.split_edge(eid, se_k, stroke_xyz, pull)
             if pull:
                 pulled.add(curve)
@@ -116,7 +115,7 @@ def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatA
             edges = net.edges()
             curves = {edges[k].curve_id for k in net.incident_edges(nid)} - set(OUTER_CURVES)
             if any(net.curve_info(c)["kind"] == "stroke" for c in curves):
-                misses.append((stroke_xyz, stroke_xyz - net.node_xyz(nid), net.node_uv(nid)))
+                misses.append((stroke_xyz, stroke_xyz - net.node_xyz(nid)))
             net.move_node(nid, stroke_xyz)
             pulled.update(curves)
         nodes.append((tk, nid))
