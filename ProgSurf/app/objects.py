@@ -35,6 +35,9 @@ class ObjectOutcome:
     fit_deviation_mm : per surface, the largest distance of its faces from their Coons sub-patches
     shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
     timings_s : seconds per step
+    fit_allowance_mm : per surface, how far the face that is furthest over (or nearest to) its
+               allowance may lie from its sub-patch: the single surface's rule
+               (cad.analysis.fit_allowance: the fit tolerance plus its sides' chord sag)
     """
 
     build: ObjectBuild
@@ -42,6 +45,7 @@ class ObjectOutcome:
     fit_deviation_mm: tuple
     shells: tuple
     timings_s: dict = field(default_factory=dict)
+    fit_allowance_mm: tuple = ()
 
     @property
     def shape(self):
@@ -50,15 +54,23 @@ class ObjectOutcome:
     @property
     def problems(self) -> list:
         """What fails the quality checks, one phrase each: loops that made no surface, invalid
-        shells, surfaces further from their Coons sub-patches than twice the fit tolerance."""
+        shells, two surfaces further apart along a seam than they were sewn at, a face further
+        from its Coons sub-patch than its fit allowance (the rule of the single surface,
+        app.build: the fit tolerance plus the chord sag of its sides)."""
         out = [f"{len(self.build.failed)} loop(s) of curves made no surface (first: {self.build.failed[0][1]})"] \
             if self.build.failed else []
         out += [f"shell {k} is not valid" for k, s in enumerate(self.shells) if not s["valid"]]
-        fit = self.build.tol.fit_mm
-        over = [k for k, d in enumerate(self.fit_deviation_mm) if d > 2 * fit]
+        wide = [k for k, s in enumerate(self.shells) if s["seam_gap_max_mm"] > self.model.tolerance]
+        if wide:
+            k = max(wide, key=lambda i: self.shells[i]["seam_gap_max_mm"])
+            out.append(f"{len(wide)} shell(s) have faces further apart along a seam than they were sewn at "
+                       f"({self.model.tolerance:.3g} mm; shell {k}: {self.shells[k]['seam_gap_max_mm']:.3g} mm)")
+        allowed = self.fit_allowance_mm or tuple(2 * self.build.tol.fit_mm for _ in self.fit_deviation_mm)
+        over = [k for k, (d, a) in enumerate(zip(self.fit_deviation_mm, allowed)) if d > a]
         if over:
-            out.append(f"{len(over)} surface(s) lie further than {2 * fit:.3g} mm from their Coons patches "
-                       f"(surface {over[0]}: {self.fit_deviation_mm[over[0]]:.3g} mm)")
+            k = max(over, key=lambda i: self.fit_deviation_mm[i] / allowed[i])
+            out.append(f"{len(over)} surface(s) lie further from their Coons patches than their fit allowance "
+                       f"(surface {k}: {self.fit_deviation_mm[k]:.3g} mm, allowed {allowed[k]:.3g} mm)")
         return out
 
     def verdict(self) -> str:
@@ -94,11 +106,10 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
                                built=[k[0] if k else None for k in kept])
     timings.update({f"cad {k}": v for k, v in model.timings_s.items()})
     clock = time.perf_counter()
-    fits = tuple(k[1] if k else max(cad_analysis.fit_deviation(shell_result, surf.result.network, n=FIT_GRID).values(),
-                                    default=0.0)
-                 for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces))
+    measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)
+                for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces)]
     if cache is not None:
-        for key, shell_result, fit in zip(keys, model.surfaces, fits):
+        for key, shell_result, fit in zip(keys, model.surfaces, measured):
             cache.store("cad surface", key, (shell_result, fit))
     shells = []
     for s in model.shells:
@@ -106,7 +117,19 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
         info.update({"faces": len(s.Faces), "closed": bool(s.isClosed()), "valid": bool(s.isValid())})
         shells.append(info)
     timings["analysis"] = time.perf_counter() - clock
-    return ObjectOutcome(build, model, fits, tuple(shells), timings)
+    return ObjectOutcome(build, model, tuple(d for d, _ in measured), tuple(shells), timings,
+                         tuple(a for _, a in measured))
+
+
+def _fit_and_allowance(shell_result, network, fit_mm: float) -> tuple[float, float]:
+    """(largest distance of the surface's faces from their Coons sub-patches, the allowance of the
+    face that comes nearest to or goes furthest over its own: cad.analysis.fit_allowance)."""
+    dev = cad_analysis.fit_deviation(shell_result, network, n=FIT_GRID)
+    if not dev:
+        return 0.0, float(fit_mm)
+    allow = cad_analysis.fit_allowance(shell_result, network, fit_mm)
+    worst = max(dev, key=lambda r: dev[r] / allow[r])
+    return max(dev.values()), allow[worst]
 
 
 def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs: Mapping | None = None,
@@ -122,7 +145,8 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "surface": k, "part": surf.part, "sides": len(surf.sides),
             "side_strokes": [graph.edges[e].stroke for e in surf.sides],
             "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
-            "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k]})
+            "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
+            "fit_allowance_mm": outcome.fit_allowance_mm[k] if outcome.fit_allowance_mm else None})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}
                for r in build.roles]

@@ -95,3 +95,30 @@ def test_cube_and_cylinder_apart_are_two_parts_and_auto_builds_all():
 def test_no_loop_is_refused_with_the_reason():
     with pytest.raises(ProgSurfError, match="no closed loop"):
         build_object([line([0, 0, 0], [10, 0, 0]), line([5, -5, 0], [5, 5, 0])])
+
+
+def test_verdict_names_a_seam_gap_beyond_the_sewing_and_a_face_over_its_fit_allowance():
+    """The object's quality verdict (issue 18, with issue 16's rule for faces): a shell whose faces lie
+    further apart along a seam than they were sewn at is not watertight at that tolerance, and a
+    surface whose face lies further from its Coons sub-patch than its fit allowance (the fit
+    tolerance plus its sides' chord sag, cad.analysis.fit_allowance, as for the single surface)
+    broke the fit's promise. Within both, the verdict is ok."""
+    from dataclasses import replace
+
+    from ProgSurf.cad import analysis as cad_analysis
+
+    out = build_object_and_measure(grid(lambda x, y: 0.3 * (x - 1.5) * (y - 1.5)))
+    assert out.problems == []
+    # the allowance of each surface is the one cad.analysis gives its worst face
+    for surf, res, allowed in zip(out.build.surfaces, out.model.surfaces, out.fit_allowance_mm):
+        allow = cad_analysis.fit_allowance(res, surf.result.network, out.build.tol.fit_mm)
+        assert allowed in allow.values() and allowed >= out.build.tol.fit_mm
+    tol = out.model.tolerance
+    gap = replace(out, shells=(dict(out.shells[0], seam_gap_max_mm=1.5 * tol),))
+    assert len(gap.problems) == 1 and "further apart along a seam" in gap.problems[0]
+    assert replace(out, shells=(dict(out.shells[0], seam_gap_max_mm=0.9 * tol),)).problems == []
+    allowed = out.fit_allowance_mm
+    over = replace(out, fit_deviation_mm=(1.01 * allowed[0],) + out.fit_deviation_mm[1:])
+    assert len(over.problems) == 1 and "surface 0" in over.problems[0] and "fit allowance" in over.problems[0]
+    assert replace(out, fit_deviation_mm=(0.99 * allowed[0],) + out.fit_deviation_mm[1:]).problems == []
+    assert "fit_allowance_mm" in object_report(out)["surfaces"][0]
