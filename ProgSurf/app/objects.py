@@ -60,15 +60,15 @@ class ObjectOutcome:
         out = [f"{len(self.build.failed)} loop(s) of curves made no surface (first: {self.build.failed[0][1]})"] \
             if self.build.failed else []
         out += [f"shell {k} is not valid" for k, s in enumerate(self.shells) if not s["valid"]]
-        wide = [k for k, s in enumerate(self.shells) if s["seam_gap_max_mm"] > self.model.tolerance]
+        wide = [k for k, s in enumerate(self.shells) if not s["seam_gap_max_mm"] <= self.model.tolerance]
         if wide:
-            k = max(wide, key=lambda i: self.shells[i]["seam_gap_max_mm"])
+            k = max(wide, key=lambda i: np.nan_to_num(self.shells[i]["seam_gap_max_mm"], nan=np.inf))
             out.append(f"{len(wide)} shell(s) have faces further apart along a seam than they were sewn at "
                        f"({self.model.tolerance:.3g} mm; shell {k}: {self.shells[k]['seam_gap_max_mm']:.3g} mm)")
         allowed = self.fit_allowance_mm or tuple(2 * self.build.tol.fit_mm for _ in self.fit_deviation_mm)
-        over = [k for k, (d, a) in enumerate(zip(self.fit_deviation_mm, allowed)) if d > a]
+        over = [k for k, (d, a) in enumerate(zip(self.fit_deviation_mm, allowed)) if not d <= a]   # (NaN fails)
         if over:
-            k = max(over, key=lambda i: self.fit_deviation_mm[i] / allowed[i])
+            k = max(over, key=lambda i: np.nan_to_num(self.fit_deviation_mm[i] / allowed[i], nan=np.inf))
             out.append(f"{len(over)} surface(s) lie further from their Coons patches than their fit allowance "
                        f"(surface {k}: {self.fit_deviation_mm[k]:.3g} mm, allowed {allowed[k]:.3g} mm)")
         return out
@@ -103,7 +103,8 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
     keys = [(surf.key, continuity) for surf in build.surfaces]
     kept = [cache.lookup("cad surface", k) if cache is not None else None for k in keys]
     model = build_object_shell([s.result for s in build.surfaces], build.tol, continuity,
-                               built=[k[0] if k else None for k in kept])
+                               built=[k[0] if k else None for k in kept],
+                               loops=(build.polylines, [s.cycle.sides for s in build.surfaces]))
     timings.update({f"cad {k}": v for k, v in model.timings_s.items()})
     clock = time.perf_counter()
     measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)

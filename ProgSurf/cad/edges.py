@@ -218,7 +218,7 @@ def _nothing(kind: str, key) -> None:
 
 
 def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats: dict | None = None,
-              keep: "ShellCache | None" = None) -> dict:
+              keep: "ShellCache | None" = None, given: tuple | None = None) -> dict:
     """edge_id -> cubic Part.BSplineCurve on [0,1] (edge param 0 at node0). Each network curve (an
     outer side or an accepted stroke) is fitted once through all its nodes, then cut at them; a curve
     whose edges do not form one chain is fitted edge by edge.
@@ -228,9 +228,15 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
             pulled, only the changed edges are fitted again (_refit_changed).
     stats : receives "curves": (reused, fitted or partly refitted).
     keep  : a ShellCache whose `curves` and `digests` receive this build's entries (reused and
-            new), for the next one."""
+            new), for the next one.
+    given : (edge id -> curve, node id -> (3,) point): curves made elsewhere (cad.shared_edges: a
+            whole object's boundary edges, pieces of the curves two surfaces share) and the points of
+            their nodes; a network curve whose every edge is given takes them, the other curves are
+            fitted through those node points."""
     edges = network.edges()
     nodes = node_points(edges)
+    given_curves, given_nodes = given if given is not None else ({}, {})
+    nodes.update(given_nodes)
     by_curve: dict = {}
     for e in edges.values():
         by_curve.setdefault(e.curve_id, []).append(e)
@@ -244,7 +250,10 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
         keys = {e.id: _edge_key(e, nodes, digests, lookup) for e in group}
         before = lookup("curves", ckey) or {}
         kept = {eid: before[k] for eid, k in keys.items() if k in before}
-        if len(kept) == len(group):
+        if given_curves and all(e.id in given_curves for e in group):
+            piece = {e.id: given_curves[e.id] for e in group}
+            fitted += 1
+        elif len(kept) == len(group):
             piece = kept
             reused += 1
         else:

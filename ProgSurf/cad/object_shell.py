@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 from ..core.types import Tolerances
 from ._occ import Part
+from .shared_edges import graph_curves, outer_edges
 from .shell import build_shell
 
 OBJECT_SEW_FRACTION = 4.0
@@ -95,14 +96,26 @@ def sew_at(faces: list, tolerance: float):
     return shape
 
 
-def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", built=None) -> ObjectShell:
+def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", built=None,
+                       loops: tuple | None = None) -> ObjectShell:
     """Every surface's faces (cad.shell.build_shell of each BuildResult's network), sewn into
     one shell per connected part at OBJECT_SEW_FRACTION of the fit tolerance.
     built: per result, its ShellResult made earlier (with this continuity) to take as it is, or
-    None to build it (app.objects keeps them for an edited sketch)."""
+    None to build it (app.objects keeps them for an edited sketch).
+    loops: ({graph edge id: (n, 3) points}, per result its cycle's ((graph edge id, reversed), ...)):
+    each graph edge is then fitted once and every surface's boundary edges are pieces of those
+    curves (cad.shared_edges), so that surfaces on one curve share it exactly."""
     clock = time.perf_counter()
-    built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity)
-             for r, b in zip(results, built or [None] * len(results))]
+    given = [None] * len(results)
+    if loops is not None:
+        polylines, sides = loops
+        todo = [k for k, b in enumerate(built or [None] * len(results)) if b is None]
+        used = {gid for k in todo for gid, _ in sides[k]}
+        curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm)
+        for k in todo:
+            given[k] = outer_edges(results[k].network, sides[k], curves)
+    built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity, given=g)
+             for r, b, g in zip(results, built or [None] * len(results), given)]
     t_surfaces = time.perf_counter() - clock
     clock = time.perf_counter()
     faces = [info.face for res in built for info in res.faces]

@@ -165,7 +165,7 @@ def network_diagonal(network) -> float:
 
 
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
-                previous: "ShellResult | None" = None) -> ShellResult:
+                previous: "ShellResult | None" = None, given: tuple | None = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
     continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
@@ -175,6 +175,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     previous : an earlier ShellResult of this network (or of one built from the same strokes):
                curves and faces whose inputs did not change are reused, so that after one more
                stroke only what it touched is fitted and built again, and sewn into its shell.
+    given    : curves and node points made elsewhere for some edges (cad.edges.fit_edges(given=)).
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
@@ -184,7 +185,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     last = previous.cache if previous is not None else ShellCache()
     cache = ShellCache(older=replace(last, older=None) if previous is not None else None)
     stats: dict = {}
-    curves = fit_edges(network, tol, last, stats, keep=cache)
+    curves = fit_edges(network, tol, last, stats, keep=cache, given=given)
     t1 = time.perf_counter()
     infos, counts_faces = coons_faces(network, curves, last, cache)
     t2 = time.perf_counter()

@@ -327,6 +327,10 @@ class BoundaryLoop:
     notes  : what was cut, extended, split and merged, in order
     used   : {input stroke index: [(k, 3) arrays]}: the pieces of each boundary stroke kept in the
              loop (faired, over-sketch trimmed, before any gap extension is added to them)
+    params : per side, its points' parameters (0..1) on the unit square's side, or () (by point
+             index, the paper's mapping): a whole object's loop (boundary_from_sides) maps its sides
+             by arc length along the curves they were cut from, which two surfaces share
+             (cad.shared_edges fits each curve once, by that arc length)
     """
 
     bottom: FloatArray
@@ -337,6 +341,11 @@ class BoundaryLoop:
     source: tuple[tuple[int, ...], ...] = ()
     notes: tuple[str, ...] = field(default=())
     used: dict = field(default_factory=dict, compare=False)
+    params: tuple = field(default=(), compare=False)
+
+    def side_params(self) -> tuple:
+        """Per side, its points' parameters (params), or None (by index)."""
+        return tuple(self.params) if self.params else (None,) * 4
 
     def __post_init__(self) -> None:
         for name in ("bottom", "right", "top", "left"):
@@ -372,9 +381,10 @@ def _pieces_at_corners(points: FloatArray, degrees: float = 20.0) -> list[int]:
     return [0] + [int(i) for i in sharp] + [len(points) - 1]
 
 
-def _resample_keeping_corners(points: FloatArray, n: int) -> FloatArray:
-    """n points evenly spaced in arc length along a polyline, with its corner vertices kept exactly."""
-    cuts = _pieces_at_corners(points)
+def _resample_keeping_corners(points: FloatArray, n: int, keep: Sequence[int] = ()) -> FloatArray:
+    """n points evenly spaced in arc length along a polyline, with its corner vertices (and the
+    vertices `keep`) kept exactly."""
+    cuts = sorted(set(_pieces_at_corners(points)) | {int(k) for k in keep if 0 < k < len(points) - 1})
     lengths = np.array([chord_length(points[a:b + 1]) for a, b in zip(cuts[:-1], cuts[1:])])
     segs = len(lengths)
     total = n - 1
@@ -390,21 +400,55 @@ def _resample_keeping_corners(points: FloatArray, n: int) -> FloatArray:
     return np.vstack(out)
 
 
-def equalise_uniform(a: npt.ArrayLike, b: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
+def arc_positions(original: npt.ArrayLike, points: npt.ArrayLike):
+    """Parameters (0..1) of points that lie on the polyline `original`, in order along it (its
+    resampling, equalise_uniform): their arc length along it over its length, strictly increasing.
+    None for a polyline of no length (a triangle's degenerate top: mapped by index)."""
+    orig = np.asarray(original, dtype=float).reshape(-1, 3)
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    step = np.linalg.norm(np.diff(orig, axis=0), axis=1)
+    total = float(step.sum())
+    if len(pts) < 2 or not total > 0:
+        return None
+    cum = np.concatenate([[0.0], np.cumsum(step)])
+    a, d = orig[:-1], np.diff(orig, axis=0)
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    out, k = [], 0
+    for p in pts:
+        # the segment it lies on, at or after the last one (the points run along the polyline)
+        t = np.clip(np.einsum("ij,ij->i", p - a[k:], d[k:]) / dd[k:], 0.0, 1.0)
+        gap = np.linalg.norm(a[k:] + t[:, None] * d[k:] - p, axis=1)
+        j = int(np.argmin(gap))
+        k += j
+        out.append(cum[k] + t[j] * step[k])
+    prm = np.asarray(out) / total
+    prm[0], prm[-1] = 0.0, 1.0
+    # two points at one place (a zero-length segment) still need two parameters: each is kept a
+    # hair (1e-9 of the side) after the one before it
+    tiny = 1e-9 / len(prm)
+    for i in range(1, len(prm)):
+        prm[i] = max(prm[i], prm[i - 1] + tiny)
+    return prm / prm[-1]
+
+
+def equalise_uniform(a: npt.ArrayLike, b: npt.ArrayLike, keep: tuple = ((), ())) -> tuple[FloatArray, FloatArray]:
     """Opposite sides with equal point counts, both evenly spaced in arc length (corners kept).
 
     For faired sides (smooth curves sampled densely) this replaces the paper's midpoint insertion:
     the index parameter of Eq. (1) then runs at an even speed along both sides, so the Coons
-    sub-patches and the B-spline edges fitted to them stay light."""
+    sub-patches and the B-spline edges fitted to them stay light.
+    keep: per side, vertex indices kept exactly too (boundary_from_sides: the nodes where the
+    curves of a merged side meet)."""
     a2 = np.array(a, dtype=float).reshape(-1, 3)
     b2 = np.array(b, dtype=float).reshape(-1, 3)
-    n = max(len(a2), len(b2), len(_pieces_at_corners(a2)), len(_pieces_at_corners(b2)), 2)
+    n = max(len(a2), len(b2), len(set(_pieces_at_corners(a2)) | set(keep[0])),
+            len(set(_pieces_at_corners(b2)) | set(keep[1])), 2)
     out = []
-    for side in (a2, b2):
+    for side, kept in zip((a2, b2), keep):
         if np.all(side == side[0]):               # the degenerate top of a triangle
             out.append(np.repeat(side[:1], n, axis=0))
         else:
-            out.append(_resample_keeping_corners(side, n))
+            out.append(_resample_keeping_corners(side, n, kept))
     return out[0], out[1]
 
 
@@ -581,8 +625,17 @@ def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
         notes.append(f"three-sided loop: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         srcs.insert(2, ())
     s0, s1, s2, s3 = merge_to_four(pts, plane, apex=1)
-    bottom, top = equalise_uniform(s0, s2[::-1])
-    right, left = equalise_uniform(s1, s3[::-1])
+    # Every point of the sides is kept (the side with fewer gets more, evenly in arc length) and
+    # the sides are mapped by arc length (params): the two surfaces on a curve then bound
+    # themselves by that curve's very points, and by the one B-spline fitted to them
+    # (cad.shared_edges), where an even resampling would cut the corners of a sparse stroke.
+    def every(side):
+        return range(1, len(side) - 1)
+
+    bottom, top = equalise_uniform(s0, s2[::-1], (every(s0), every(s2)))
+    right, left = equalise_uniform(s1, s3[::-1], (every(s1), every(s3)))
+    params = tuple(arc_positions(orig, side) for orig, side in
+                   ((s0, bottom), (s1, right), (s2[::-1], top), (s3[::-1], left)))
     area_normal = _loop_normal(np.concatenate([s0, s1[1:], s2[1:], s3[1:-1]]), plane)
     out_plane = plane if area_normal >= 0 else plane.flipped()
-    return BoundaryLoop(bottom, right, top, left, out_plane, tuple(srcs), tuple(notes), {})
+    return BoundaryLoop(bottom, right, top, left, out_plane, tuple(srcs), tuple(notes), {}, params=params)

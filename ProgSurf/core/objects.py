@@ -110,6 +110,7 @@ class ObjectBuild:
     roles    : StrokeRole per input stroke, in input order
     tol      : the tolerances used (automatic values resolved from the whole sketch)
     timings_s: seconds: "graph", "cycles", "surfaces"
+    polylines: graph edge id -> its faired points (n, 3) (edge_polylines), the surfaces' sides
     """
 
     graph: StrokeGraph
@@ -119,6 +120,7 @@ class ObjectBuild:
     roles: tuple
     tol: Tolerances
     timings_s: dict = field(default_factory=dict)
+    polylines: dict = field(default_factory=dict)
 
     @property
     def rebuilt(self) -> tuple:
@@ -359,7 +361,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
                                       part_of[cycle.sides[0][0]], key, reused))
     timings["surfaces"] = time.perf_counter() - clock
     return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed),
-                       tol, timings)
+                       tol, timings, polylines)
 
 
 def stroke_network(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances()) -> tuple:

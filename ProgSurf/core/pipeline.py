@@ -203,9 +203,11 @@ def build_network(strokes: Sequence[npt.ArrayLike], boundary: Union[None, int, S
         todo = [i for i in interior if i >= done]
         timings["reused strokes"] = done
     else:
-        # The sides keep the paper's mapping of equalised points to the unit square (by index);
-        # interior strokes are faired below.
-        net = PatchNetwork(*list(loop.sides))
+        # The sides keep the paper's mapping of equalised points to the unit square (by index), or
+        # a whole object's loop its arc length (BoundaryLoop.params); interior strokes are
+        # faired below.
+        net = PatchNetwork(*[side if prm is None else Polyline(side, prm)
+                             for side, prm in zip(loop.sides, loop.side_params())])
     timings["base"] = time.perf_counter() - clock
     if progress:
         progress(2, total, "base surface")

@@ -122,3 +122,38 @@ def test_verdict_names_a_seam_gap_beyond_the_sewing_and_a_face_over_its_fit_allo
     assert len(over.problems) == 1 and "surface 0" in over.problems[0] and "fit allowance" in over.problems[0]
     assert replace(out, fit_deviation_mm=(0.99 * allowed[0],) + out.fit_deviation_mm[1:]).problems == []
     assert "fit_allowance_mm" in object_report(out)["surfaces"][0]
+
+
+def _edges_near_x(res, lo, hi):
+    """The face edges of a surface's shell whose middle lies between x = lo and x = hi."""
+    out = []
+    for info in res.faces:
+        for ed in info.face.Edges:
+            if ed.Length > 1.0 and lo < ed.valueAt(0.5 * (ed.FirstParameter + ed.LastParameter)).x < hi:
+                out.append(ed)
+    return out
+
+
+def test_two_surfaces_on_one_stroke_bound_themselves_by_the_very_same_curve():
+    """Issue 18, "surfaces that share a curve share that edge exactly": a sparse curved stroke (6
+    points) splits a rectangle into two surfaces, and an interior stroke of the left one ends on it
+    (a node that only the left surface has). Each surface once fitted the stroke by itself, through
+    its own nodes: the two edges were 1.7e-3 mm apart (sewn at 0.046 mm). Now the stroke is fitted
+    once (cad.shared_edges) and both surfaces' edges are pieces of that curve."""
+    import Part
+
+    y = np.linspace(0.0, 50.0, 6)
+    mid = np.c_[50 + 8 * np.sin(np.pi * y / 50), y, 12 * np.sin(np.pi * y / 50)]
+    across = np.c_[np.linspace(0.0, 50.0, 30), np.full(30, 20.0), 6 * np.sin(np.linspace(0.0, np.pi, 30))]
+    strokes = [np.linspace([0, 0, 0], [100, 0, 0], 40), np.linspace([100, 0, 0], [100, 50, 0], 9),
+               np.linspace([100, 50, 0], [0, 50, 0], 40), np.linspace([0, 50, 0], [0, 0, 0], 31), mid, across]
+    out = build_object_and_measure(strokes)
+    assert len(out.build.surfaces) == 2 and out.problems == []
+    assert any(len(s.result.network) > 1 for s in out.build.surfaces)      # the interior stroke went in
+    left, right = (_edges_near_x(res, 35.0, 65.0) for res in out.model.surfaces)
+    assert left and right
+    other = Part.Compound(right)
+    pts = [e.valueAt(t) for e in left for t in np.linspace(e.FirstParameter, e.LastParameter, 40)]
+    diag = float(np.linalg.norm(np.ptp(np.vstack(strokes), axis=0)))
+    assert max(other.distToShape(Part.Vertex(p))[0] for p in pts) <= 1e-9 * diag
+    assert out.shells[0]["seam_gap_max_mm"] <= 1e-9 * diag
