@@ -30,7 +30,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .core.errors import InvalidOptionError, ProgSurfError, StrokeFileError
+from .core.errors import DegenerateSketchError, InvalidOptionError, OpenBoundaryError, ProgSurfError, StrokeFileError
 from .core.off_surface import moved_note
 from .core.types import FIT_FRACTION, Tolerances
 from .io.c3d import MIN_DURATION_S, MIN_LENGTH_MM
@@ -134,10 +134,10 @@ def _parser() -> argparse.ArgumentParser:
                    help=f".c3d inputs: drop pen-down runs shorter than this (default {MIN_LENGTH_MM:g} mm)")
     b.add_argument("--smooth", type=_whole, default=0, metavar="N",
                    help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
-    b.add_argument("--surfaces", choices=["auto", "all", "one"], default="one",
-                   help="one (default): one surface; all: every surface of the stroke network, one shell "
-                        "per part (first version: see the README); auto: one when one loop encloses the "
-                        "other strokes, else all (ProgSurf.object_cli)")
+    b.add_argument("--surfaces", choices=["auto", "all", "one"], default="auto",
+                   help="auto (default): one surface when one loop encloses the other strokes, else every "
+                        "surface (ProgSurf.object_cli); one: one surface; all: every surface of the stroke "
+                        "network, one shell per part")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
     return p
 
@@ -344,7 +344,7 @@ def run_build(args, out=sys.stdout) -> dict:
     strokes = _read(args.inputs, _c3d_options(args))
     tol = _check_size(strokes, tol)
     timings["read"] = time.perf_counter() - clock
-    from .object_cli import run_object_build, wants_object
+    from .object_cli import fallback_object, run_object_build, wants_object
 
     network = wants_object(args, strokes, tol)
     if network is not None:
@@ -354,8 +354,19 @@ def run_build(args, out=sys.stdout) -> dict:
     from .app.build import build_and_measure, build_report
     from .io.report import write_report
 
-    outcome = build_and_measure(strokes, args.boundary_count, tol, continuity=args.continuity,
-                                skin=args.skin, report=True)
+    try:
+        outcome = build_and_measure(strokes, args.boundary_count, tol, continuity=args.continuity,
+                                    skin=args.skin, report=True)
+    except (OpenBoundaryError, DegenerateSketchError) as exc:
+        # --surfaces auto: no single loop of strokes encloses the others; every loop of the
+        # network, when there is one, is what the sketch shows
+        network = fallback_object(args, strokes, tol)
+        if network is None:
+            raise
+        if not args.quiet:
+            print(f"no single boundary loop ({exc}); building every surface of the stroke network "
+                  "(--surfaces all)", file=out)
+        return run_object_build(args, strokes, tol, network, timings, out)
     timings.update(outcome.timings_s)
     result, shape = outcome.result, outcome.shell.shape
     if len(shape.Shells) != 1 or not shape.isValid():

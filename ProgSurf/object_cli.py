@@ -1,10 +1,11 @@
 """`build --surfaces all|one|auto` (issue 18): the whole-object branch of the command line.
 
 `all` builds every surface of the stroke network (app.objects) into one shell per connected
-part; `one` (the default) is the single progressive surface (cli.run_build as before); `auto`
-builds one surface when one loop encloses the other strokes (core.objects.choose_mode: one open
-sheet of curves, or no loop at all) and every surface otherwise. --boundary-count names one
-surface's boundary, so with it `auto` is `one`.
+part; `one` is the single progressive surface (cli.run_build as before); `auto` (the default)
+builds one surface when one loop encloses the other strokes (core.objects.choose_mode: one sheet of
+curves whose loops face one way, or no loop at all) and every surface otherwise, and also every
+surface when the single surface is refused for want of one boundary loop (fallback_object).
+--boundary-count and --skin name one surface, so with them `auto` is `one`.
 """
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ def wants_object(args, strokes: list, tol) -> Optional[tuple]:
     """The stroke network to build every surface of (core.objects.stroke_network's result), or
     None when the command is to build the single surface."""
     mode = getattr(args, "surfaces", "one")
-    if mode == "one" or (mode == "auto" and args.boundary_count is not None):
+    if mode == "one" or (mode == "auto" and (args.boundary_count is not None or args.skin)):
         return None
     if mode == "all" and (args.boundary_count is not None or args.skin):
         raise ProgSurfError("--surfaces all builds every loop of the network; --boundary-count and --skin "
@@ -28,9 +29,24 @@ def wants_object(args, strokes: list, tol) -> Optional[tuple]:
     from .core.objects import choose_mode, stroke_network
 
     network = stroke_network(strokes, tol)
-    if mode == "auto" and choose_mode(network[1]) == "one":
+    if mode == "auto" and choose_mode(network[1], network[0]) == "one":
         return None
     return network
+
+
+def fallback_object(args, strokes: list, tol) -> Optional[tuple]:
+    """--surfaces auto, after the single surface was refused for want of one boundary loop (its
+    strokes leave a gap, or none encloses the others): the stroke network to build every surface
+    of, when it has a loop of curves; None otherwise (and for the other modes)."""
+    if getattr(args, "surfaces", "one") != "auto" or args.boundary_count is not None or args.skin:
+        return None
+    from .core.objects import stroke_network
+
+    try:
+        network = stroke_network(strokes, tol)
+    except ProgSurfError:
+        return None
+    return network if network[1].cycles else None
 
 
 def _write_fcstd(path: str, strokes: list, outcome, continuity: str) -> None:

@@ -157,3 +157,25 @@ def test_two_surfaces_on_one_stroke_bound_themselves_by_the_very_same_curve():
     diag = float(np.linalg.norm(np.ptp(np.vstack(strokes), axis=0)))
     assert max(other.distToShape(Part.Vertex(p))[0] for p in pts) <= 1e-9 * diag
     assert out.shells[0]["seam_gap_max_mm"] <= 1e-9 * diag
+
+
+def test_auto_builds_one_surface_only_for_a_sheet_whose_loops_face_one_way():
+    """core.objects.choose_mode with the graph (--surfaces auto): the saddle grid's loops face one
+    way (facing_share near 1): one surface; the cube's face every way (near 0), and a sheet bent
+    round three sides of a box (a body that wraps round, like a car's roof and sides) under
+    FACING: every surface."""
+    from ProgSurf.core.objects import FACING, facing_share
+
+    g, choice, _ = stroke_network(grid(lambda x, y: 0.3 * (x - 1.5) * (y - 1.5)))
+    assert facing_share(g, choice) > 0.95 and choose_mode(choice, g) == "one"
+    g, choice, _ = stroke_network(cube_edges())
+    assert facing_share(g, choice) < 0.05 and choose_mode(choice, g) == "all"
+    # a strip over three faces of a 10 mm box: top, and the two sides hanging from it
+    corners = [[0, 0, -10], [0, 0, 0], [10, 0, 0], [10, 0, -10]]
+    rails = [line(np.array(c, float), np.array(c, float) + [0, 10, 0]) for c in corners]
+    profiles = [np.vstack([line(np.array(a, float) + [0, y, 0], np.array(b, float) + [0, y, 0])[:-1]
+                           for a, b in zip(corners[:-1], corners[1:])] + [np.array(corners[-1], float) + [0, y, 0]])
+                for y in (0.0, 10.0)]
+    g, choice, _ = stroke_network(rails + profiles)
+    assert len(choice.cycles) == 3
+    assert facing_share(g, choice) < FACING and choose_mode(choice, g) == "all"

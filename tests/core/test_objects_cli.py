@@ -128,3 +128,33 @@ def test_real_network_surfaces_share_their_curves_exactly():
     assert all(s["valid"] for s in out.shells)
     assert max(s["seam_gap_max_mm"] for s in out.shells) <= 1e-6
     assert out.problems == []
+
+
+def test_by_default_a_cube_builds_every_surface_and_a_square_one(tmp_path):
+    """--surfaces auto is the default (issue 18): the cube's edges (loops facing every way) make six
+    surfaces, the bundled clean4 sketch (one loop round the others) its single surface."""
+    cube = tmp_path / "cube.xyz"
+    write_cube(cube)
+    proc = run("build", str(cube), "-o", str(tmp_path / "cube.step"), "--report", str(tmp_path / "cube.json"))
+    assert proc.returncode == 0, proc.stderr
+    report = json.loads((tmp_path / "cube.json").read_text())
+    assert report["mode"] == "all" and len(report["surfaces"]) == 6
+    proc = run("build", str(ROOT / "examples" / "clean4.xyz"), "-o", str(tmp_path / "c4.step"),
+               "--report", str(tmp_path / "c4.json"))
+    assert proc.returncode == 0, proc.stderr
+    assert "mode" not in json.loads((tmp_path / "c4.json").read_text())
+
+
+@pytest.mark.skipif(not SMALL.is_file(), reason=f"shared sketch {SMALL} not found")
+def test_by_default_a_sketch_with_no_single_boundary_loop_builds_every_surface(tmp_path):
+    """04-1-1 (CASSIE): one sheet of curves whose loops face one way, but its strokes leave a 350 mm
+    gap round any single boundary: the single surface is refused, and --surfaces auto (the
+    default) then builds the network's surfaces and says why."""
+    report_path = tmp_path / "r.json"
+    proc = run("build", str(SMALL), "-o", str(tmp_path / "r.step"), "--report", str(report_path))
+    assert proc.returncode == 0, proc.stderr
+    assert "no single boundary loop" in proc.stdout
+    report = json.loads(report_path.read_text())
+    assert report["mode"] == "all" and report["surfaces"]
+    proc = run("build", str(SMALL), "-o", str(tmp_path / "one.step"), "--surfaces", "one")
+    assert proc.returncode == 2 and "gap" in proc.stderr
