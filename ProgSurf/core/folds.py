@@ -23,7 +23,7 @@ from typing import Iterable, Optional, Sequence
 import numpy as np
 
 from .preimage import clip01
-from .types import FloatArray
+from .types import FloatArray, cross3
 
 SEAM_FOLD_DEG = 55.0
 FACE_TURN_DEG = 85.0
@@ -60,7 +60,7 @@ def _unit(v: FloatArray) -> tuple[FloatArray, np.ndarray]:
 def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list[tuple[FloatArray, np.ndarray]]:
     """:func:`region_normals` of several (region id, s (k,), r (k,)) (k > 0) at once: the fold
     checks sample every region they look at inside and along each of its seams, and all of it is
-    evaluated together (NetworkSurface.evaluate_regions). Every value is the one region_normals
+    evaluated together (NetworkSurface.evaluate_region_stencils). Every value is the one region_normals
     gives for its set alone: the arithmetic is per sample, and what is relative (which normals are
     defined) is relative within each set. Returns [(unit normals (k, 3), defined (k,))] per job."""
     if not jobs:
@@ -69,35 +69,23 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     for i, (rid, _, _) in enumerate(jobs):
         by_region.setdefault(rid, []).append(i)
     order = [i for held in by_region.values() for i in held]
-    sizes = [len(jobs[i][1]) for i in order]
+    sizes_of = [len(job[1]) for job in jobs]
+    sizes = [sizes_of[i] for i in order]
     starts = np.cumsum([0] + sizes[:-1])
     s = np.concatenate([np.asarray(jobs[i][1], dtype=float) for i in order])
     r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
     s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
     r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
-    # each region's samples as one block of four: (s0, r), (s1, r), (s, r0), (s, r1), its sides
-    # evaluated once at each distinct s, s0, s1 and r, r0, r1 (a face's 9 x 9 grid has 9 of each).
+    # every sample as four points, (s0, r), (s1, r), (s, r0), (s, r1), all evaluated together, each
+    # region's sides once per distinct parameter (NetworkSurface.evaluate_region_stencils)
     # (Forward differences, three points a sample, were tried in b5697fd: near a collapsed apex
     # they read a region of three_sided 98 deg turned over where central ones read under 85.)
-    blocks, first, count, at = [], [], [], 0
-    distinct: dict = {}
-    for rid, held in by_region.items():
-        m = sum(len(jobs[i][1]) for i in held)
-        a, b = at, at + m
-        (sv, si), (rv, ri) = (_distinct_values([jobs[i][k] for i in held], distinct) for k in (1, 2))
-        ns, nr = len(sv), len(rv)
-        blocks.append((rid, np.concatenate([clip01(sv - _STEP), clip01(sv + _STEP), sv]),
-                       np.concatenate([rv, clip01(rv - _STEP), clip01(rv + _STEP)]),
-                       np.concatenate([si, ns + si, 2 * ns + si, 2 * ns + si]),
-                       np.concatenate([ri, ri, nr + ri, 2 * nr + ri])))
-        first.append(4 * a + np.arange(m))
-        count.append(np.full(m, m))
-        at = b
-    p = net.evaluate_regions_indexed(blocks)
-    i0, m = np.concatenate(first), np.concatenate(count)
-    du = (p[i0 + m] - p[i0]) / (s1 - s0)[:, None]
-    dv = (p[i0 + 3 * m] - p[i0 + 2 * m]) / (r1 - r0)[:, None]
-    n = np.cross(du, dv)
+    which = np.repeat(np.arange(len(by_region)), [sum(sizes_of[i] for i in held) for held in by_region.values()])
+    n_s = len(s)
+    p = net.evaluate_region_stencils(list(by_region), which, s, r, s0, s1, r0, r1)
+    du = (p[n_s:2 * n_s] - p[:n_s]) / (s1 - s0)[:, None]
+    dv = (p[3 * n_s:] - p[2 * n_s:3 * n_s]) / (r1 - r0)[:, None]
+    n = cross3(du, dv)
     lu, lv, ln = (np.linalg.norm(x, axis=1) for x in (du, dv, n))
 
     def per_set(values: FloatArray) -> FloatArray:
@@ -113,27 +101,6 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     for i, a, k in zip(order, starts, sizes):
         out[i] = (unit[a:a + k], ok[a:a + k])
     return out
-
-
-def _distinct_values(arrays: list, memo: dict) -> tuple[FloatArray, np.ndarray]:
-    """Values (a,) and index (k,) such that values[index] is the concatenation of `arrays`, bit for
-    bit: each long array by its distinct values (memo: by array, for one array given for many
-    regions), each short one as it is."""
-    vals, index, at = [], [], 0
-    for x in arrays:
-        x = np.asarray(x, dtype=float)
-        got = memo.get(id(x))
-        if got is None or got[0] is not x:
-            got = (x, x, np.arange(len(x)))
-            if len(x) > 16:
-                u, inv = np.unique(x, return_inverse=True)
-                if np.array_equal(u[inv].view(np.int64), x.view(np.int64)):    # (not -0.0 for 0.0)
-                    got = (x, u, inv)
-            memo[id(x)] = got
-        vals.append(got[1])
-        index.append(at + got[2])
-        at += len(got[1])
-    return np.concatenate(vals), np.concatenate(index)
 
 
 def region_normals(net, rid: int, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -323,7 +290,7 @@ def surface_normal_vectors(net, uv: FloatArray) -> FloatArray:
                                       uv + np.column_stack([0 * h[:, 1], h[:, 1]])])
     du = (pu - p) / h[:, :1]
     dv = (pv - p) / h[:, 1:]
-    return np.cross(du, dv)
+    return cross3(du, dv)
 
 
 def surface_turn_deg(net, uv: FloatArray) -> float:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .types import FloatArray
+from .types import FloatArray, cross3
 
 
 @dataclass(frozen=True)
@@ -41,12 +41,12 @@ def prepare(tri: FloatArray) -> tuple[FloatArray, np.ndarray, FloatArray]:
     triangle is degenerate), the non-degenerate mask and the longer edge length."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     r_vec, s_vec = b - a, c - a
-    n = np.cross(r_vec, s_vec)
+    n = cross3(r_vec, s_vec)
     nrm = np.linalg.norm(n, axis=1)
     good = nrm > 1e-300
     n_unit = n / np.where(good, nrm, 1.0)[:, None]
     # inverse of the column matrix [R S N] by cross products: rows (S x N, N x R, R x S) / det
-    rows = np.stack([np.cross(s_vec, n_unit), np.cross(n_unit, r_vec), np.cross(r_vec, s_vec)], axis=1)
+    rows = np.stack([cross3(s_vec, n_unit), cross3(n_unit, r_vec), cross3(r_vec, s_vec)], axis=1)
     det = np.einsum("ij,ij->i", r_vec, rows[:, 0])
     good &= np.abs(det) > 1e-300
     inv = rows / np.where(good, det, 1.0)[:, None, None]
@@ -77,12 +77,12 @@ def _closest_on_triangles(q: FloatArray, tri: FloatArray) -> tuple[FloatArray, F
     best_d = None
     # Candidates: interior projection and the three edges; pick the nearest valid one.
     ab, ac = b - a, c - a
-    n = np.cross(ab, ac)
+    n = cross3(ab, ac)
     nn = np.einsum("ij,ij->i", n, n)
     nn_safe = np.where(nn > 1e-300, nn, 1.0)
     aq = q - a
-    wb = np.einsum("ij,ij->i", np.cross(aq, ac), n) / nn_safe
-    wc = np.einsum("ij,ij->i", np.cross(ab, aq), n) / nn_safe
+    wb = np.einsum("ij,ij->i", cross3(aq, ac), n) / nn_safe
+    wc = np.einsum("ij,ij->i", cross3(ab, aq), n) / nn_safe
     wa = 1.0 - wb - wc
     inside = (wa >= 0) & (wb >= 0) & (wc >= 0) & (nn > 1e-300)
     p = wa[:, None] * a + wb[:, None] * b + wc[:, None] * c

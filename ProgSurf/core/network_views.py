@@ -320,9 +320,9 @@ class NetworkViews:
     def edge_regions(self) -> dict[int, list[int]]:
         """Edge id -> the ids of the (one or two) regions whose cycle uses it."""
         out: dict[int, list[int]] = {eid: [] for eid in self._edges}
+        index = self._edge_index
         for rid, reg in self._regions.items():
             cyc = reg.cycle
-            for k in range(len(cyc)):
-                eid, _ = self.edge_between(cyc[k], cyc[(k + 1) % len(cyc)])
-                out[eid].append(rid)
+            for a, b in zip(cyc, cyc[1:] + cyc[:1]):
+                out[index[(a, b)][0]].append(rid)
         return out

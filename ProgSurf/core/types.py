@@ -64,6 +64,23 @@ class Tolerances:
         return self.sag_mm if self.fair_mm else None
 
 
+def cross3(a: FloatArray, b: FloatArray) -> FloatArray:
+    """np.cross of (..., 3) vectors, the same arithmetic (a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0,
+    each product rounded, then the difference), without np.cross's axis handling: footpoints and
+    the fold checks call it thousands of times a stroke on small arrays."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    np.multiply(a1, b2, out=out[..., 0])
+    out[..., 0] -= a2 * b1
+    np.multiply(a2, b0, out=out[..., 1])
+    out[..., 1] -= a0 * b2
+    np.multiply(a0, b1, out=out[..., 2])
+    out[..., 2] -= a1 * b0
+    return out
+
+
 def _span(params: FloatArray, t: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """t clamped to the params' range and the index of the segment that holds it."""
     tc = np.minimum(np.maximum(t, params[0]), params[-1])

@@ -215,14 +215,38 @@ def test_regions_evaluated_at_distinct_parameters_are_the_points(net):
     assert np.array_equal(got, net.evaluate_regions([(rid, sv[si], rv[ri]) for rid, sv, rv, si, ri in sets]))
 
 
-def test_distinct_values_rebuild_the_samples_bit_for_bit():
-    memo: dict = {}
-    grid = np.repeat(np.linspace(0.0, 1.0, 9), 9)
-    arrays = [grid, np.array([0.0, -0.0, 0.5]), np.r_[np.zeros(20), -np.zeros(20)], grid]
-    vals, index = folds._distinct_values(arrays, memo)
-    want = np.concatenate(arrays)
-    assert np.array_equal(vals[index].view(np.int64), want.view(np.int64))
-    assert len(vals) < len(want)
+def test_region_stencils_are_the_points_evaluated_one_by_one(net):
+    """evaluate_region_stencils (each side once per distinct (region, parameter), found by one sort:
+    the fold checks' central differences on a 9 x 9 grid repeat a few values many times) gives, bit
+    for bit, evaluate_regions of the four points of each sample; -0.0 and 0.0 are kept apart."""
+    from ProgSurf.core.preimage import clip01
+
+    rng = np.random.default_rng(8)
+    g = np.linspace(0.0, 1.0, 9)
+    rids = net.region_ids[:10]
+    which = rng.permutation(np.concatenate([np.full(k, i) for i, k in enumerate(rng.integers(1, 60, len(rids)))]))
+    s = np.where(rng.uniform(size=len(which)) < 0.7, rng.choice(g, len(which)), rng.uniform(0, 1, len(which)))
+    r = np.where(rng.uniform(size=len(which)) < 0.7, rng.choice(g, len(which)), rng.uniform(0, 1, len(which)))
+    s[:3], r[:3] = [0.0, -0.0, 1.0], [-0.0, 0.0, 0.0]
+    h = 1e-4
+    s0, s1, r0, r1 = clip01(s - h), clip01(s + h), clip01(r - h), clip01(r + h)
+    got = net.evaluate_region_stencils(rids, which, s, r, s0, s1, r0, r1)
+    points = [(s0, r), (s1, r), (s, r0), (s, r1)]
+    want = np.concatenate([net.evaluate_regions([(rids[w], a[j:j + 1], b[j:j + 1]) for j, w in enumerate(which)])
+                           for a, b in points])
+    assert np.array_equal(got.view(np.int64), want.view(np.int64))
+
+
+def test_cross3_is_np_cross_bit_for_bit():
+    from ProgSurf.core.types import cross3
+
+    rng = np.random.default_rng(9)
+    for shape in [(5, 3), (1000, 3), (3,), (4, 7, 3)]:
+        a = rng.normal(size=shape) * 10.0 ** rng.uniform(-5, 5, size=shape)
+        b = rng.normal(size=shape)
+        assert np.array_equal(np.cross(a, b).view(np.int64), cross3(a, b).view(np.int64))
+    q, a = rng.normal(size=3), rng.normal(size=(6, 3))
+    assert np.array_equal(np.cross(q, a), cross3(q, a)) and np.array_equal(np.cross(a, q), cross3(a, q))
 
 
 def test_corner_angle_is_measured_as_point_at_length_gives_it():
