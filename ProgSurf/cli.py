@@ -135,7 +135,8 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--smooth", type=_whole, default=0, metavar="N",
                    help=".c3d inputs: moving-average window against tracker jitter (ends kept)")
     b.add_argument("--surfaces", choices=["auto", "all", "one"], default="auto",
-                   help="auto (default): one surface when one loop encloses the other strokes, else every "
+                   help="auto (default): one surface for one sheet of strokes (one loop round the others, "
+                        "or loops that all face one way), else, or when no single boundary loop closes, every "
                         "surface (ProgSurf.object_cli); one: one surface; all: every surface of the stroke "
                         "network, one shell per part")
     b.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")

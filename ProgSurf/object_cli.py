@@ -2,9 +2,10 @@
 
 `all` builds every surface of the stroke network (app.objects) into one shell per connected
 part; `one` is the single progressive surface (cli.run_build as before); `auto` (the default)
-builds one surface when one loop encloses the other strokes (core.objects.choose_mode: one sheet of
-curves whose loops face one way, or no loop at all) and every surface otherwise, and also every
-surface when the single surface is refused for want of one boundary loop (fallback_object).
+builds one surface for one sheet of curves (core.objects.choose_mode: its outer border one loop
+round the others, or its loops all facing one way, or no loop at all) and every surface otherwise,
+and also every surface when the single surface is refused for want of one boundary loop
+(fallback_object).
 --boundary-count and --skin name one surface, so with them `auto` is `one`.
 """
 from __future__ import annotations

@@ -31,6 +31,10 @@ tolerances apart (_dense): 0.2 % of the sketch's diagonal at the default fit tol
 under the spacing the surfaces' sides have. A function of the tolerance alone, so that a curve is
 the same whichever other surfaces are built with it (an edited sketch rebuilds only some)."""
 
+SHORTEST = 1e-8
+"""A piece of a graph curve shorter than this share of it (a node found a round-off before the
+graph node where the next curve starts) is left out of a boundary edge: OCC cannot cut it."""
+
 SAMPLES = 64
 """Points per graph curve for the first guess of a node's nearest point (then OCC's projection)."""
 
@@ -112,17 +116,29 @@ class _Loop:
 
     def locate(self, point: FloatArray, lo: float = 0.0, hi: float | None = None) -> float:
         """The loop position in [lo, hi] (default: the first lap) of the curve point nearest
-        `point`: the nearest sample there, then OCC's projection on its side, kept in [lo, hi]."""
+        `point`: the nearest sample there, then OCC's projection on its side (on both sides when
+        that sample is a graph node, the nearer kept), kept in [lo, hi]."""
         hi = float(len(self)) if hi is None else hi
         inside = np.flatnonzero((self.lam >= lo - 1e-12) & (self.lam <= hi + 1e-12))
         if not len(inside):
             return lo
         i = inside[int(np.argmin(np.linalg.norm(self.points[inside] - point, axis=1)))]
-        k = int(np.floor(self.lam[i] - 1e-12)) if self.lam[i] > 0 else 0
-        curve, rev = self.sides[k % len(self)]
-        t = min(max(float(curve.parameter(Vector(*map(float, point)))), 0.0), 1.0)
-        lam = k + (1.0 - t if rev else t)
-        return min(max(lam, lo), hi) if abs(lam - self.lam[i]) < 0.5 else float(self.lam[i])
+        at = float(self.lam[i])
+        node = abs(at - round(at)) < 1e-12
+        sides = [int(round(at)) - 1, int(round(at))] if node else [int(np.floor(at))]
+        best, best_d = at, float(np.linalg.norm(self.points[i] - point))
+        for k in sides:
+            if k < 0 or k >= 2 * len(self):
+                continue
+            curve, rev = self.sides[k % len(self)]
+            t = min(max(float(curve.parameter(Vector(*map(float, point)))), 0.0), 1.0)
+            lam = k + (1.0 - t if rev else t)
+            if abs(lam - at) >= 1.0 or not lo - 1e-12 <= lam <= hi + 1e-12:
+                continue
+            d = float(np.linalg.norm(np.array(tuple(curve.value(t)), dtype=float) - point))
+            if d < best_d:
+                best, best_d = lam, d
+        return min(max(best, lo), hi)
 
     def point(self, lam: float) -> FloatArray:
         k = int(np.floor(lam))
@@ -142,12 +158,16 @@ class _Loop:
             end = min(b, k + 1.0)
             curve, rev = self.sides[k % len(self)]
             t0, t1 = max(at - k, 0.0), min(end - k, 1.0)
+            at = end
+            if t1 - t0 < SHORTEST:
+                continue            # a sliver of a side at a graph node: the next piece starts there
             if rev:
                 parts.append((unit_segment(curve, 1.0 - t1, 1.0 - t0), True))
             else:
                 parts.append((unit_segment(curve, t0, t1), False))
             shares.append(self.lengths[k % len(self)] * (t1 - t0))
-            at = end
+        if not parts:               # two nodes at one place: a point
+            return constant_curve(self.point(a))
         if len(parts) == 1:
             seg, rev = parts[0]
             if rev:
@@ -229,6 +249,8 @@ def outer_edges(network, sides: Sequence[tuple], curves: dict) -> tuple[dict, di
     near = [float(k) for k in range(len(loop)) if np.linalg.norm(loop.point(float(k)) - c0) <= 1e-6 * loop.length]
     starts = near or [loop.locate(c0)]
     where, _ = min((walk(st) for st in starts), key=lambda w: w[1])
+    # a node a round-off from a graph node is that node (OCC cannot cut a piece of 1e-8 of a side)
+    where = {nid: float(round(lam)) if abs(lam - round(lam)) < SHORTEST else lam for nid, lam in where.items()}
     start = where[order[0]]
     end = start + len(loop)
     nodes = {nid: loop.point(lam) for nid, lam in where.items()}

@@ -607,8 +607,11 @@ def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
     sides   : (n_k, 3) each, in loop order, each starting where the previous one ends
     sources : the stroke (or network edge) index of each side, for BoundaryLoop.source
     inside  : the strokes inside the loop (their ends help choose a triangle's apex: triangle_apex)
-    Sides are faired, densely sampled polylines: opposite sides are resampled evenly in arc length
-    (equalise_uniform)."""
+    Sides are faired, densely sampled polylines. Every point of them is kept: of two opposite
+    sides, the one with fewer points gets more, evenly in arc length between its own
+    (equalise_uniform with every vertex kept), and each side is mapped to the unit square by arc
+    length (BoundaryLoop.params), so that the surface follows the very points its neighbour on the
+    same curve follows, with the parameter of the one curve fitted to them (cad.shared_edges)."""
     pts = [np.array(s, dtype=float).reshape(-1, 3) for s in sides]
     if len(pts) < 3:
         raise OpenBoundaryError(f"a loop of {len(pts)} side(s) cannot bound a surface; it needs 3 or more")

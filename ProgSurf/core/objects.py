@@ -296,9 +296,9 @@ def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -
 
 
 FACING = 0.7
-"""--surfaces auto: a sketch whose loops' vector areas add up to less than this share of their sizes
-(the loops face different ways: a closed shell, a tube, a body that wraps round) is built as every
-surface. On the sketchgen families of seed bases 13000 and 17000 (360 single surfaces, noisy and
+"""--surfaces auto: a one-part sheet without one outer border (choose_mode) whose loops' vector areas
+add up to less than this share of their sizes (the loops face different ways: a closed shell, a
+tube, a body that wraps round) is built as every surface. On the sketchgen families of seed bases 13000 and 17000 (360 single surfaces, noisy and
 clean) the share was 0.78 or more; on the real objects of ../shared/data that are one part, 0.62
 or less (vintage_car 0.62, the TiGL tubes 0.005-0.06)."""
 
@@ -321,21 +321,23 @@ def facing_share(graph: StrokeGraph, choice: CycleChoice) -> float:
 
 
 def choose_mode(choice: CycleChoice, graph: Optional[StrokeGraph] = None) -> str:
-    """The surfaces the sketch shows, for --surfaces auto: "one" when one loop encloses the other
-    strokes (no loop at all, or one connected sheet whose loops all face one way: today's single
-    surface), else "all" (several parts, a closed shell, a tube, a body that wraps round:
-    facing_share under FACING). Whether the sheet's outer border closed into a loop does not
-    matter (a 5-sided boundary drawn with an open corner has none). Without the graph, the loops'
-    facing is not known: one part with one outer face is then "one"."""
+    """The surfaces the sketch shows, for --surfaces auto: "one" for no loop at all, or one
+    connected sheet whose outer border is one loop round the others (its outer face, no rims of
+    a tube), or whose loops all face one way (facing_share at least FACING, which a sheet whose
+    border did not close, such as a 5-sided boundary drawn with an open corner, still has); "all"
+    otherwise (several parts, a closed shell, a tube, loops facing every way). A sheet that wraps
+    round, like a car's roof and sides, has one outer border too: the single surface is then
+    refused for want of one boundary loop, and the command line builds every surface instead
+    (object_cli.fallback_object). Without the graph the loops' facing is not known."""
     parts = {c.sides[0][0] for c in choice.cycles}
     parts = {p for p, edges in enumerate(choice.parts) if edges & parts}
     if len(choice.cycles) <= 1 or len(parts) > 1:
         return "one" if len(choice.cycles) <= 1 else "all"
-    if graph is not None:
-        return "one" if facing_share(graph, choice) >= FACING else "all"
     outer = [c for c, reason in choice.dropped if reason.startswith("outer face")]
     rims = [c for c, reason in choice.dropped if reason.startswith("spans no surface")]
-    return "one" if len(outer) == 1 and not rims else "all"
+    if len(outer) == 1 and not rims:
+        return "one"
+    return "one" if graph is not None and facing_share(graph, choice) >= FACING else "all"
 
 
 def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(),

@@ -159,11 +159,13 @@ def test_two_surfaces_on_one_stroke_bound_themselves_by_the_very_same_curve():
     assert out.shells[0]["seam_gap_max_mm"] <= 1e-9 * diag
 
 
-def test_auto_builds_one_surface_only_for_a_sheet_whose_loops_face_one_way():
-    """core.objects.choose_mode with the graph (--surfaces auto): the saddle grid's loops face one
-    way (facing_share near 1): one surface; the cube's face every way (near 0), and a sheet bent
-    round three sides of a box (a body that wraps round, like a car's roof and sides) under
-    FACING: every surface."""
+def test_auto_builds_one_surface_for_one_sheet_and_every_surface_for_a_closed_shell():
+    """core.objects.choose_mode with the graph (--surfaces auto): the saddle grid (its outer border
+    one loop, its loops facing one way: facing_share near 1) is one surface; the cube (no border,
+    loops facing every way: near 0) every surface. A strip bent over three faces of a box (a body
+    that wraps round, like a car's roof and sides): its border is taken for a rim (its nodes'
+    normals lie along it, as round a tube's end) and its loops face several ways (under FACING):
+    every surface."""
     from ProgSurf.core.objects import FACING, facing_share
 
     g, choice, _ = stroke_network(grid(lambda x, y: 0.3 * (x - 1.5) * (y - 1.5)))
@@ -177,5 +179,5 @@ def test_auto_builds_one_surface_only_for_a_sheet_whose_loops_face_one_way():
                            for a, b in zip(corners[:-1], corners[1:])] + [np.array(corners[-1], float) + [0, y, 0]])
                 for y in (0.0, 10.0)]
     g, choice, _ = stroke_network(rails + profiles)
-    assert len(choice.cycles) == 3
-    assert facing_share(g, choice) < FACING and choose_mode(choice, g) == "all"
+    assert len(choice.cycles) == 3 and facing_share(g, choice) < FACING
+    assert choose_mode(choice, g) == "all"
