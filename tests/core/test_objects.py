@@ -181,3 +181,22 @@ def test_auto_builds_one_surface_for_one_sheet_and_every_surface_for_a_closed_sh
     g, choice, _ = stroke_network(rails + profiles)
     assert len(choice.cycles) == 3 and facing_share(g, choice) < FACING
     assert choose_mode(choice, g) == "all"
+
+
+def test_shared_curves_place_nodes_beside_a_graph_node_and_cut_slivers():
+    """cad.shared_edges on a square of four straight 100 mm curves: a boundary node 0.7 mm past a
+    corner (a graph node) is found there, not on the corner; a piece from a round-off before a
+    corner to the next corner, and a piece of no length, are curves OCC can make (a sliver of 1e-10
+    of a side made OCC fail)."""
+    from ProgSurf.cad.shared_edges import _Loop, graph_curves
+
+    corners = [[0, 0, 0], [100, 0, 0], [100, 100, 0], [0, 100, 0], [0, 0, 0]]
+    polys = {k: np.linspace(corners[k], corners[k + 1], 11) for k in range(4)}
+    loop = _Loop([(k, False) for k in range(4)], graph_curves(polys, 0.05))
+    for y in (0.3, 0.7, 2.0):
+        lam = loop.locate(np.array([100.0, y, 0.0]), 0.0, 4.0)
+        assert np.linalg.norm(loop.point(lam) - [100.0, y, 0.0]) < 1e-9
+    for a, b in ((1.0 - 1e-10, 2.0), (1.0, 1.0 + 1e-11), (1.0, 1.0)):
+        c = loop.piece(a, b)
+        end = np.array(tuple(c.value(1.0)))
+        assert np.linalg.norm(end - loop.point(b)) < 1e-6
