@@ -347,8 +347,8 @@ def run_build(args, out=sys.stdout) -> dict:
     timings["read"] = time.perf_counter() - clock
     from .object_cli import fallback_object, run_object_build, wants_object
 
-    network = wants_object(args, strokes, tol)
-    if network is not None:
+    whole, network = wants_object(args, strokes, tol)
+    if whole:
         return run_object_build(args, strokes, tol, network, timings, out)
 
     from . import cad
@@ -361,7 +361,7 @@ def run_build(args, out=sys.stdout) -> dict:
     except (OpenBoundaryError, DegenerateSketchError) as exc:
         # --surfaces auto: no single loop of strokes encloses the others; every loop of the
         # network, when there is one, is what the sketch shows
-        network = fallback_object(args, strokes, tol)
+        network = fallback_object(args, network)
         if network is None:
             raise
         if not args.quiet:

@@ -18,34 +18,28 @@ from typing import Optional
 from .core.errors import ProgSurfError
 
 
-def wants_object(args, strokes: list, tol) -> Optional[tuple]:
-    """The stroke network to build every surface of (core.objects.stroke_network's result), or
-    None when the command is to build the single surface."""
+def wants_object(args, strokes: list, tol) -> tuple[bool, Optional[tuple]]:
+    """(build every surface?, the stroke network: core.objects.stroke_network's result, or None
+    when it was not needed to decide). With --surfaces auto the network made to choose is kept
+    for fallback_object, should the single surface be refused."""
     mode = getattr(args, "surfaces", "one")
     if mode == "one" or (mode == "auto" and (args.boundary_count is not None or args.skin)):
-        return None
+        return False, None
     if mode == "all" and (args.boundary_count is not None or args.skin):
         raise ProgSurfError("--surfaces all builds every loop of the network; --boundary-count and --skin "
                             "name one surface: give --surfaces one with them")
     from .core.objects import choose_mode, stroke_network
 
     network = stroke_network(strokes, tol)
-    if mode == "auto" and choose_mode(network[1], network[0]) == "one":
-        return None
-    return network
+    return mode == "all" or choose_mode(network[1], network[0]) == "all", network
 
 
-def fallback_object(args, strokes: list, tol) -> Optional[tuple]:
+def fallback_object(args, network: Optional[tuple]) -> Optional[tuple]:
     """--surfaces auto, after the single surface was refused for want of one boundary loop (its
-    strokes leave a gap, or none encloses the others): the stroke network to build every surface
-    of, when it has a loop of curves; None otherwise (and for the other modes)."""
-    if getattr(args, "surfaces", "one") != "auto" or args.boundary_count is not None or args.skin:
-        return None
-    from .core.objects import stroke_network
-
-    try:
-        network = stroke_network(strokes, tol)
-    except ProgSurfError:
+    strokes leave a gap, or none encloses the others): the stroke network (made by wants_object)
+    to build every surface of, when it has a loop of curves; None otherwise (and for the other
+    modes, where wants_object made none)."""
+    if getattr(args, "surfaces", "one") != "auto" or network is None:
         return None
     return network if network[1].cycles else None
 

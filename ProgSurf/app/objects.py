@@ -33,19 +33,19 @@ class ObjectOutcome:
 
     build : core.objects.ObjectBuild       model : cad.object_shell.ObjectShell
     fit_deviation_mm : per surface, the largest distance of its faces from their Coons sub-patches
-    shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
-    timings_s : seconds per step
     fit_allowance_mm : per surface, how far the face that is furthest over (or nearest to) its
                allowance may lie from its sub-patch: the single surface's rule
                (cad.analysis.fit_allowance: the fit tolerance plus its sides' chord sag)
+    shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
+    timings_s : seconds per step
     """
 
     build: ObjectBuild
     model: ObjectShell
     fit_deviation_mm: tuple
+    fit_allowance_mm: tuple
     shells: tuple
     timings_s: dict = field(default_factory=dict)
-    fit_allowance_mm: tuple = ()
 
     @property
     def shape(self):
@@ -65,7 +65,7 @@ class ObjectOutcome:
             k = max(wide, key=lambda i: np.nan_to_num(self.shells[i]["seam_gap_max_mm"], nan=np.inf))
             out.append(f"{len(wide)} shell(s) have faces further apart along a seam than they were sewn at "
                        f"({self.model.tolerance:.3g} mm; shell {k}: {self.shells[k]['seam_gap_max_mm']:.3g} mm)")
-        allowed = self.fit_allowance_mm or tuple(2 * self.build.tol.fit_mm for _ in self.fit_deviation_mm)
+        allowed = self.fit_allowance_mm
         over = [k for k, (d, a) in enumerate(zip(self.fit_deviation_mm, allowed)) if not d <= a]   # (NaN fails)
         if over:
             k = max(over, key=lambda i: np.nan_to_num(self.fit_deviation_mm[i] / allowed[i], nan=np.inf))
@@ -118,8 +118,8 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
         info.update({"faces": len(s.Faces), "closed": bool(s.isClosed()), "valid": bool(s.isValid())})
         shells.append(info)
     timings["analysis"] = time.perf_counter() - clock
-    return ObjectOutcome(build, model, tuple(d for d, _ in measured), tuple(shells), timings,
-                         tuple(a for _, a in measured))
+    return ObjectOutcome(build, model, tuple(d for d, _ in measured), tuple(a for _, a in measured),
+                         tuple(shells), timings)
 
 
 def _fit_and_allowance(shell_result, network, fit_mm: float) -> tuple[float, float]:
@@ -147,7 +147,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "side_strokes": [graph.edges[e].stroke for e in surf.sides],
             "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
-            "fit_allowance_mm": outcome.fit_allowance_mm[k] if outcome.fit_allowance_mm else None})
+            "fit_allowance_mm": outcome.fit_allowance_mm[k]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}
                for r in build.roles]

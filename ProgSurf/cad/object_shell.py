@@ -106,16 +106,17 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     each graph edge is then fitted once and every surface's boundary edges are pieces of those
     curves (cad.shared_edges), so that surfaces on one curve share it exactly."""
     clock = time.perf_counter()
+    built = list(built or [None] * len(results))
     given = [None] * len(results)
     if loops is not None:
         polylines, sides = loops
-        todo = [k for k, b in enumerate(built or [None] * len(results)) if b is None]
+        todo = [k for k, b in enumerate(built) if b is None]
         used = {gid for k in todo for gid, _ in sides[k]}
         curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm)
         for k in todo:
             given[k] = outer_edges(results[k].network, sides[k], curves)
     built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity, given=g)
-             for r, b, g in zip(results, built or [None] * len(results), given)]
+             for r, b, g in zip(results, built, given)]
     t_surfaces = time.perf_counter() - clock
     clock = time.perf_counter()
     faces = [info.face for res in built for info in res.faces]

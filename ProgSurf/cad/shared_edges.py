@@ -22,7 +22,7 @@ import numpy as np
 from ..core.network_views import OUTER_CURVES
 from ..core.types import FloatArray
 from ._occ import Vector
-from .curves import DEGREE, constant_curve, curve_points, fit_points, join_side, unit_segment
+from .curves import collapsed, constant_curve, curve_points, fit_points, join_side, unit_segment
 from .edges import EDGE_FIT_FRACTION
 
 DENSE_SPACING = 20.0
@@ -235,12 +235,17 @@ def outer_edges(network, sides: Sequence[tuple], curves: dict) -> tuple[dict, di
         miss = 0.0
         for e in edges.values():
             mid = np.asarray(e.polyline.points[len(e.polyline.points) // 2], dtype=float)
-            a, b = sorted((where[e.node0], where[e.node1]))
-            if position[e.node0] == 0 or position[e.node1] == 0:
-                a, b = (max(where[e.node0], where[e.node1]), start + len(loop)) if max(
-                    position[e.node0], position[e.node1]) == len(order) - 1 else (a, b)
+            a, b, _ = span(e, where, start + len(loop))
             miss += float(np.linalg.norm(loop.point(loop.locate(mid, a, b)) - mid))
         return where, miss
+
+    def span(e, where: dict, end: float) -> tuple[float, float, bool]:
+        """(a, b, forward): boundary edge e runs over the loop from position a to b (a <= b; the edge
+        back to c0 ends at `end`, c0's position one lap on); forward when node0 is at a."""
+        i, j = position[e.node0], position[e.node1]
+        forward = j == (i + 1) % len(order)
+        first, last = (e.node0, e.node1) if forward else (e.node1, e.node0)
+        return where[first], (where[last] if position[last] != 0 else end), forward
 
     position = {nid: i for i, nid in enumerate(order)}
     # c0 is where the loop's first side starts, but a loop may pass that point again (a closed
@@ -256,15 +261,10 @@ def outer_edges(network, sides: Sequence[tuple], curves: dict) -> tuple[dict, di
     nodes = {nid: loop.point(lam) for nid, lam in where.items()}
     out = {}
     for e in edges.values():
-        pts = e.polyline.points
-        if float(np.ptp(pts, axis=0).max()) <= 1e-12 * max(float(np.abs(pts).max()), 1e-300):
+        if collapsed(e.polyline.points):
             out[e.id] = constant_curve(nodes[e.node0])      # the collapsed top of a 3-sided region
             continue
-        i, j = position[e.node0], position[e.node1]
-        forward = j == (i + 1) % len(order)
-        first, last = (e.node0, e.node1) if forward else (e.node1, e.node0)
-        a = where[first]
-        b = where[last] if position[last] != 0 else end
+        a, b, forward = span(e, where, end)
         c = loop.piece(a, b)
         if not forward:
             c = c.copy()
@@ -274,4 +274,4 @@ def outer_edges(network, sides: Sequence[tuple], curves: dict) -> tuple[dict, di
     return out, nodes
 
 
-__all__ = ["DEGREE", "graph_curves", "outer_edges"]
+__all__ = ["SharedCurve", "graph_curves", "outer_edges"]

@@ -437,8 +437,8 @@ def equalise_uniform(a: npt.ArrayLike, b: npt.ArrayLike, keep: tuple = ((), ()))
     For faired sides (smooth curves sampled densely) this replaces the paper's midpoint insertion:
     the index parameter of Eq. (1) then runs at an even speed along both sides, so the Coons
     sub-patches and the B-spline edges fitted to them stay light.
-    keep: per side, vertex indices kept exactly too (boundary_from_sides: the nodes where the
-    curves of a merged side meet)."""
+    keep: per side, vertex indices kept exactly too (boundary_from_sides keeps every vertex: the
+    side with fewer points gets more between its own)."""
     a2 = np.array(a, dtype=float).reshape(-1, 3)
     b2 = np.array(b, dtype=float).reshape(-1, 3)
     n = max(len(a2), len(b2), len(set(_pieces_at_corners(a2)) | set(keep[0])),

@@ -29,7 +29,7 @@ from .boundary import best_fit_plane, boundary_from_sides
 from .errors import ProgSurfError
 from .fairing import fair_stroke, stroke_tolerance
 from .pipeline import BuildResult, build_network, resolve_tolerances
-from .stroke_cycles import Cycle, CycleChoice, find_cycles
+from .stroke_cycles import Cycle, CycleChoice, find_cycles, vector_area
 from .stroke_graph import StrokeGraph, build_stroke_graph
 from .strokes import chord_length, cumulative_length, filter_stroke, point_at_length, round_points, validate_stroke
 from .types import FloatArray, Tolerances
@@ -308,14 +308,9 @@ def facing_share(graph: StrokeGraph, choice: CycleChoice) -> float:
     same way (one sheet that could be one surface over a plane), near 0 for a closed shell. The
     loops of a manifold choice run the same way round their shared curves, so their vector areas
     are oriented alike."""
-    areas = []
-    for c in choice.cycles:
-        loop = c.loop_points(graph)
-        a = loop - loop.mean(axis=0)
-        areas.append(0.5 * np.cross(a, np.roll(a, -1, axis=0)).sum(axis=0))
-    if not areas:
+    if not choice.cycles:
         return 1.0
-    areas = np.array(areas)
+    areas = np.array([vector_area(c.loop_points(graph)) for c in choice.cycles])
     size = float(np.linalg.norm(areas, axis=1).sum())
     return float(np.linalg.norm(areas.sum(axis=0)) / size) if size > 0 else 1.0
 

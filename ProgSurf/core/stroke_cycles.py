@@ -233,7 +233,9 @@ def _faces(graph: StrokeGraph, rotation: dict) -> list:
     return faces
 
 
-def _vector_area(points: FloatArray) -> FloatArray:
+def vector_area(points: FloatArray) -> FloatArray:
+    """3D vector area (3,) of the closed polygon `points` (n, 3), about its mean: its direction
+    says which way round it runs."""
     c = points.mean(axis=0)
     q = points - c
     return 0.5 * np.cross(q, np.roll(q, -1, axis=0)).sum(axis=0)
@@ -255,7 +257,7 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
             bridges |= {e for e in ids if ids.count(e) > 1}
             continue
         pts = np.vstack([(graph.edges[e].points[::-1] if r else graph.edges[e].points)[:-1] for e, r in face])
-        area = _vector_area(pts)
+        area = vector_area(pts)
         norm = np.linalg.norm(area)
         nodes = [graph.edges[e].node1 if r else graph.edges[e].node0 for e, r in face]
         ns = [normals[n] for n in nodes if n in normals]
