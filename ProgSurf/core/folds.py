@@ -60,7 +60,7 @@ def _unit(v: FloatArray) -> tuple[FloatArray, np.ndarray]:
 def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list[tuple[FloatArray, np.ndarray]]:
     """:func:`region_normals` of several (region id, s (k,), r (k,)) (k > 0) at once: the fold
     checks sample every region they look at inside and along each of its seams, and all of it is
-    evaluated together (NetworkSurface.evaluate_region_stencils). Every value is the one region_normals
+    evaluated together (NetworkSurface.region_differences). Every value is the one region_normals
     gives for its set alone: the arithmetic is per sample, and what is relative (which normals are
     defined) is relative within each set. Returns [(unit normals (k, 3), defined (k,))] per job."""
     if not jobs:
@@ -76,15 +76,12 @@ def normal_sets(net, jobs: Sequence[tuple[int, FloatArray, FloatArray]]) -> list
     r = np.concatenate([np.asarray(jobs[i][2], dtype=float) for i in order])
     s0, s1 = clip01(s - _STEP), clip01(s + _STEP)
     r0, r1 = clip01(r - _STEP), clip01(r + _STEP)
-    # every sample as four points, (s0, r), (s1, r), (s, r0), (s, r1), all evaluated together, each
-    # region's sides once per distinct parameter (NetworkSurface.evaluate_region_stencils)
-    # (Forward differences, three points a sample, were tried in b5697fd: near a collapsed apex
-    # they read a region of three_sided 98 deg turned over where central ones read under 85.)
+    # every sample's differences in s and in r, all evaluated together, each region's sides once
+    # per distinct parameter (NetworkSurface.region_differences)
+    # (Forward differences were tried in b5697fd: near a collapsed apex they read a region of
+    # three_sided 98 deg turned over where central ones read under 85.)
     which = np.repeat(np.arange(len(by_region)), [sum(sizes_of[i] for i in held) for held in by_region.values()])
-    n_s = len(s)
-    p = net.evaluate_region_stencils(list(by_region), which, s, r, s0, s1, r0, r1)
-    du = (p[n_s:2 * n_s] - p[:n_s]) / (s1 - s0)[:, None]
-    dv = (p[3 * n_s:] - p[2 * n_s:3 * n_s]) / (r1 - r0)[:, None]
+    du, dv = net.region_differences(list(by_region), which, s, r, s0, s1, r0, r1)
     n = cross3(du, dv)
     lu, lv, ln = (np.linalg.norm(x, axis=1) for x in (du, dv, n))
 

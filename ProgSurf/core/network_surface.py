@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .coons import CoonsPatch, coons_blend
+from .coons import CoonsPatch, coons_blend, f1
 from .footpoint import Facets, Footpoint, footpoint, prepare, real_footpoint
 from .network_views import pruned
 from .preimage import bilinear, cross2, inverse_bilinear_sets
-from .types import FloatArray, Polyline, evaluate_polylines
+from .types import FloatArray, Polyline, evaluate_polyline_rows, evaluate_polylines
 
 NEAR_REGIONS = 4
 """Footpoints are first searched in this many regions nearest (by bounding box) to the point."""
@@ -114,47 +114,55 @@ class NetworkSurface:
         sizes = [len(si) for _, _, _, si, _ in sets]
         return coons_blend(u, v, (bottom, right, top, left), np.repeat(np.stack(corners, axis=1), sizes, axis=1))
 
-    def evaluate_region_stencils(self, rids: list, which: np.ndarray, s: FloatArray, r: FloatArray,
-                                 s0: FloatArray, s1: FloatArray, r0: FloatArray, r1: FloatArray) -> FloatArray:
-        """The points (4k, 3) of the sub-patches of regions rids[which] (k,) at (s0, r), (s1, r),
-        (s, r0), (s, r1) in turn (the fold checks' central differences; s0, s1 functions of s and
-        r0, r1 of r): the values evaluate_regions gives, each region's bottom and top evaluated
-        once at each of its distinct s (and the s0, s1 of it), its right and left at each distinct
-        r. The distinct values come from one sort of (region, value) for all regions at once (a
-        loop per region and job was a third of the fold checks' time)."""
+    def region_differences(self, rids: list, which: np.ndarray, s: FloatArray, r: FloatArray,
+                           s0: FloatArray, s1: FloatArray, r0: FloatArray, r1: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The central differences (P(s1, r) - P(s0, r)) / (s1 - s0) and (P(s, r1) - P(s, r0)) /
+        (r1 - r0), (k, 3) each, of the sub-patches P of regions rids[which] (k,) (the fold checks'
+        normals; s0 < s1 about s and r0 < r1 about r), written out from Eq. 1:
+
+            dP/ds = q(s0, s1) [(p(0,r) - p(1,r)) - f1(r) (p00 - p10) - f2(r) (p01 - p11)]
+                    + [f1(r) (p(s1,0) - p(s0,0)) + f2(r) (p(s1,1) - p(s0,1))] / (s1 - s0)
+
+        with q(a, b) = (f1(b) - f1(a)) / (b - a) = 2 (a^2 + ab + b^2) - 3 (a + b) exactly, and
+        likewise in r: the differences of the blends cost nothing and lose no digits, only the
+        sides are differenced. Each region's bottom and top are evaluated once at each of its
+        distinct s (and the s0, s1 of it), its right and left at each distinct r, found by one
+        sort of (region, value) for all regions at once."""
         sides, corners = self._sides_and_corners(rids)
-        which = np.asarray(which)
-        k = len(which)
-        calls, runs, offset = [], [], 0
-        for t, lo, hi, ends in ((s, s0, s1, (0, 2)), (r, r0, r1, (1, 3))):
+        which = np.asarray(which, dtype=np.intp)
+        n, k = len(rids), len(which)
+        rows, values, picks = [], [], []
+        for t, lo, hi, pair in ((s, s0, s1, (0, 2)), (r, r0, r1, (1, 3))):
             order = np.lexsort((t, which))
             w, v = which[order], t[order]
             new = np.ones(k, dtype=bool)
-            # (by their bits: -0.0 is kept apart from 0.0, so every point is evaluated at its own value)
-            new[1:] = (w[1:] != w[:-1]) | (v[1:].view(np.int64) != v[:-1].view(np.int64))
+            new[1:] = (w[1:] != w[:-1]) | (v[1:] != v[:-1])
             rank = np.empty(k, dtype=np.intp)
             rank[order] = np.cumsum(new) - 1                    # each sample's distinct value
-            first = np.flatnonzero(new)
-            at = order[first]                                   # a sample holding each distinct value
-            cut = np.searchsorted(w[first], np.arange(len(rids) + 1))
-            held = [j for j in range(len(rids)) if cut[j + 1] > cut[j]]
-            for i in ends:
-                base, length = np.zeros(len(rids), dtype=np.intp), np.zeros(len(rids), dtype=np.intp)
-                for j in held:
-                    sel = at[cut[j]:cut[j + 1]]
-                    # region j's job on side i: its distinct lo values, hi values, values
-                    calls.append((sides[j][i], np.concatenate([lo[sel], hi[sel], t[sel]])))
-                    base[j], length[j] = offset - cut[j], len(sel)
-                    offset += 3 * len(sel)
-                runs.append((i, rank + base[which], length[which]))
-        pts = evaluate_polylines(calls)
-        got = {i: (pts[at], pts[at + n], pts[at + 2 * n]) for i, at, n in runs}
-        (b0, b1, b), (t0, t1, tv) = got[0], got[2]
-        (rv, r0p, r1p), (lv, l0, l1) = (got[1][2], got[1][0], got[1][1]), (got[3][2], got[3][0], got[3][1])
-        bottom, top = np.concatenate([b0, b1, b, b]), np.concatenate([t0, t1, tv, tv])
-        right, left = np.concatenate([rv, rv, r0p, r1p]), np.concatenate([lv, lv, l0, l1])
-        u, v = np.concatenate([s0, s1, s, s]), np.concatenate([r, r, r0, r1])
-        return coons_blend(u, v, (bottom, right, top, left), np.stack(corners, axis=1)[:, np.tile(which, 4)])
+            at = order[new]                                     # a sample holding each distinct value
+            for i in pair:                                      # side i of region j is polyline i n + j
+                rows.append(np.tile(i * n + which[at], 3))
+                values.append(np.concatenate([lo[at], hi[at], t[at]]))
+            picks.append((len(at), rank))
+        pts = evaluate_polyline_rows([side[i] for i in range(4) for side in sides], np.concatenate(rows),
+                                     np.concatenate(values))
+        (ds, rank_s), (dr, rank_r) = picks
+        got, start = [], 0
+        for d, rank in ((ds, rank_s), (ds, rank_s), (dr, rank_r), (dr, rank_r)):   # bottom, top, right, left
+            side = pts[start:start + 3 * d]
+            got.append(((side[d:2 * d] - side[:d])[rank], side[2 * d:][rank]))
+            start += 3 * d
+        (d_bottom, bottom), (d_top, top), (d_right, right), (d_left, left) = got
+        p00, p10, p11, p01 = np.moveaxis(np.stack(corners)[which], 1, 0)
+        fs1, fr1 = f1(s)[:, None], f1(r)[:, None]
+        fs2, fr2 = 1.0 - fs1, 1.0 - fr1
+        qs = (2.0 * (s0 * s0 + s0 * s1 + s1 * s1) - 3.0 * (s0 + s1))[:, None]
+        qr = (2.0 * (r0 * r0 + r0 * r1 + r1 * r1) - 3.0 * (r0 + r1))[:, None]
+        du = qs * ((left - right) - fr1 * (p00 - p10) - fr2 * (p01 - p11)) \
+            + (fr1 * d_bottom + fr2 * d_top) / (s1 - s0)[:, None]
+        dv = qr * ((bottom - top) - fs1 * (p00 - p01) - fs2 * (p10 - p11)) \
+            + (fs1 * d_left + fs2 * d_right) / (r1 - r0)[:, None]
+        return du, dv
 
     def evaluate_regions(self, sets: list[tuple[int, FloatArray, FloatArray]]) -> FloatArray:
         """:meth:`evaluate_region` of several (region id, s (k,), r (k,)) at once, concatenated

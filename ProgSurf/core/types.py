@@ -103,48 +103,50 @@ def _lerp(points: FloatArray, params: FloatArray, k: np.ndarray, tc: FloatArray)
 
 
 def evaluate_polylines(jobs: Sequence[tuple["Polyline", FloatArray]]) -> FloatArray:
-    """Polyline.evaluate of several (polyline, parameters (k,)) at once, concatenated (sum k, 3):
-    the segment search of all jobs in one searchsorted, the interpolation of all of them together
-    (the same values as one by one)."""
+    """Polyline.evaluate of several (polyline, parameters (k,)) at once, concatenated (sum k, 3)
+    (the same values as one by one): long jobs one by one, many short ones through one search
+    (evaluate_polyline_rows)."""
     jobs = [(poly, np.asarray(t, dtype=float).reshape(-1)) for poly, t in jobs]
+    sizes = [len(t) for _, t in jobs]
+    if sum(sizes) >= 256 * len(jobs):
+        return np.concatenate([poly.evaluate(t) for poly, t in jobs]).reshape(-1, 3)
+    return evaluate_polyline_rows([poly for poly, _ in jobs], np.repeat(np.arange(len(jobs)), sizes),
+                                  np.concatenate([t for _, t in jobs]) if jobs else np.zeros(0))
+
+
+def evaluate_polyline_rows(polys: Sequence["Polyline"], rows: np.ndarray, t: FloatArray) -> FloatArray:
+    """Points (k, 3): polys[rows[i]].evaluate(t[i]) for each i, the same values, the segment search
+    of all of them in one searchsorted of keys (polyline, parameter), the interpolation of all
+    of them together (the fold checks evaluate thousands of short runs of many sides)."""
+    rows, t = np.asarray(rows, dtype=np.intp).reshape(-1), np.asarray(t, dtype=float).reshape(-1)
     group: dict = {}                         # each polyline's points once, however often it is used
-    used = []
-    for poly, _ in jobs:
+    used, index = [], []
+    for poly in polys:
         if id(poly) not in group:
             group[id(poly)] = len(used)
             used.append(poly)
+        index.append(group[id(poly)])
+    if not used:
+        return np.zeros((0, 3))
     pts = np.concatenate([p.points for p in used])
     prm = np.concatenate([p.params for p in used])
     counts = np.array([len(p.params) for p in used])
     offsets = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    which = np.array([group[id(poly)] for poly, _ in jobs])
-    sizes = np.array([len(t) for _, t in jobs])
-    single = counts[which] < 2               # one point (Polyline.evaluate): filled in below
-    t = np.concatenate([t for poly, t in jobs])
-    held = np.repeat(~single, sizes)
-    rows = np.repeat(which, sizes)[held]
-    t = t[held]
-    # the segment of each parameter in its own polyline (Polyline.evaluate's clamp and search)
-    if len(t) >= 256 * len(jobs):
-        # long jobs: one search per job
-        spans = [_span(poly.params, t) for poly, t in jobs if len(poly.params) >= 2]
-        tc = np.concatenate([tc for tc, _ in spans])
-        k = np.concatenate([k for _, k in spans]) + np.repeat(offsets[which[~single]], sizes[~single])
-    else:
-        # many short jobs: one search of keys (polyline, parameter), which sort as complex
-        # numbers do, polyline first
-        first, last = prm[offsets], prm[offsets + counts - 1]
-        tc = np.minimum(np.maximum(t, first[rows]), last[rows])
-        keys = np.empty(len(prm), dtype=complex)
-        keys.real, keys.imag = np.repeat(np.arange(len(used)), counts), prm
-        query = np.empty(len(tc), dtype=complex)
-        query.real, query.imag = rows, tc
-        k = np.minimum(np.searchsorted(keys, query, side="right") - 1, (offsets + counts - 2)[rows])
-    out = _lerp(pts, prm, k, tc)
-    if single.any():
-        starts = np.cumsum(np.concatenate([[0], sizes[:-1]]))
-        for i in np.flatnonzero(single):
-            out = np.insert(out, starts[i], jobs[i][0].evaluate(jobs[i][1]), axis=0)
+    g = np.asarray(index, dtype=np.intp)[rows]
+    first, last = prm[offsets], prm[offsets + counts - 1]
+    tc = np.minimum(np.maximum(t, first[g]), last[g])
+    # keys sort as complex numbers do: polyline first, then parameter
+    keys = np.empty(len(prm), dtype=complex)
+    keys.real, keys.imag = np.repeat(np.arange(len(used)), counts), prm
+    query = np.empty(len(tc), dtype=complex)
+    query.real, query.imag = g, tc
+    k = np.minimum(np.searchsorted(keys, query, side="right") - 1, (offsets + counts - 2)[g])
+    single = counts[g] < 2                   # one point (Polyline.evaluate): that point
+    if not single.any():
+        return _lerp(pts, prm, k, tc)
+    out = np.empty((len(t), 3))
+    out[single] = pts[offsets[g[single]]]
+    out[~single] = _lerp(pts, prm, k[~single], tc[~single])
     return out
 
 

@@ -215,10 +215,12 @@ def test_regions_evaluated_at_distinct_parameters_are_the_points(net):
     assert np.array_equal(got, net.evaluate_regions([(rid, sv[si], rv[ri]) for rid, sv, rv, si, ri in sets]))
 
 
-def test_region_stencils_are_the_points_evaluated_one_by_one(net):
-    """evaluate_region_stencils (each side once per distinct (region, parameter), found by one sort:
-    the fold checks' central differences on a 9 x 9 grid repeat a few values many times) gives, bit
-    for bit, evaluate_regions of the four points of each sample; -0.0 and 0.0 are kept apart."""
+def test_region_differences_are_the_central_differences_of_the_points(net):
+    """region_differences (each side once per distinct (region, parameter), found by one sort; the
+    blends' differences written out) gives the central differences of evaluate_regions' points,
+    within round-off of the points' size over the step (the differences of points lose those
+    digits, the written-out form does not), at the sides and corners too, for a sample given
+    more than once and in any order of regions."""
     from ProgSurf.core.preimage import clip01
 
     rng = np.random.default_rng(8)
@@ -230,11 +232,37 @@ def test_region_stencils_are_the_points_evaluated_one_by_one(net):
     s[:3], r[:3] = [0.0, -0.0, 1.0], [-0.0, 0.0, 0.0]
     h = 1e-4
     s0, s1, r0, r1 = clip01(s - h), clip01(s + h), clip01(r - h), clip01(r + h)
-    got = net.evaluate_region_stencils(rids, which, s, r, s0, s1, r0, r1)
-    points = [(s0, r), (s1, r), (s, r0), (s, r1)]
-    want = np.concatenate([net.evaluate_regions([(rids[w], a[j:j + 1], b[j:j + 1]) for j, w in enumerate(which)])
-                           for a, b in points])
-    assert np.array_equal(got.view(np.int64), want.view(np.int64))
+    du, dv = net.region_differences(rids, which, s, r, s0, s1, r0, r1)
+
+    def points(a, b):
+        return np.concatenate([net.evaluate_regions([(rids[w], a[j:j + 1], b[j:j + 1])]) for j, w in enumerate(which)])
+
+    want_u = (points(s1, r) - points(s0, r)) / (s1 - s0)[:, None]
+    want_v = (points(s, r1) - points(s, r0)) / (r1 - r0)[:, None]
+    size = np.abs(points(s, r)).max()
+    for got, want, step in ((du, want_u, s1 - s0), (dv, want_v, r1 - r0)):
+        err = np.linalg.norm(got - want, axis=1)
+        assert np.all(err <= 1e-12 * size / step + 1e-9 * np.linalg.norm(want, axis=1)), err.max()
+    # one region alone gives the same as among the others
+    alone = which == which[0]
+    du1, dv1 = net.region_differences([rids[which[0]]], np.zeros(int(alone.sum()), dtype=int), s[alone], r[alone],
+                                      s0[alone], s1[alone], r0[alone], r1[alone])
+    assert np.array_equal(du1, du[alone]) and np.array_equal(dv1, dv[alone])
+
+
+def test_polyline_rows_are_each_polyline_alone():
+    from ProgSurf.core.types import evaluate_polyline_rows
+
+    rng = np.random.default_rng(10)
+    polys = [Polyline(rng.normal(size=(n, 3)), np.r_[0.0, np.sort(rng.uniform(0, 1, n - 2)), 1.0])
+             for n in (2, 5, 30)] + [Polyline(np.ones((1, 3)), np.array([0.0]))]
+    polys = polys + polys[:2]                   # a polyline given twice
+    rows = rng.integers(0, len(polys), 500)
+    t = rng.uniform(-0.2, 1.2, 500)
+    t[:4] = [0.0, -0.0, 1.0, 0.5]
+    got = evaluate_polyline_rows(polys, rows, t)
+    assert np.array_equal(got, np.array([polys[i].evaluate(x) for i, x in zip(rows, t)]))
+    assert evaluate_polyline_rows(polys, np.zeros(0, dtype=int), np.zeros(0)).shape == (0, 3)
 
 
 def test_cross3_is_np_cross_bit_for_bit():
