@@ -83,8 +83,8 @@ class NetworkProxy(FeatureProxy):
                 setattr(obj, name, value)
         if "Continuity" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Continuity", "Surface",
-                            "Continuity across the seams inside each surface: G0 Coons sub-patches, "
-                            "G1 tangent-continuous seams")
+                            "Continuity across the seams: G0 Coons sub-patches, G1 tangent-continuous "
+                            "seams inside each surface and across the curves two surfaces share smoothly")
             obj.Continuity = CONTINUITY
         for kind, name, doc in RESULTS:
             add_property(obj, kind, name, "Result", doc, PROP_OUTPUT, read_only=True)

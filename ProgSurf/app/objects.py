@@ -101,6 +101,9 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
     timings = dict(build.timings_s)
     # a surface's faces and fit deviation depend on its core result (its key) and the continuity
     keys = [(surf.key, continuity) for surf in build.surfaces]
+    if continuity == "G1":
+        # and in G1 on its neighbours' too (cad.object_g1): on every surface's
+        keys = [(surf.key, continuity, tuple(s.key for s in build.surfaces)) for surf in build.surfaces]
     kept = [cache.lookup("cad surface", k) if cache is not None else None for k in keys]
     model = build_object_shell([s.result for s in build.surfaces], build.tol, continuity,
                                built=[k[0] if k else None for k in kept],
@@ -125,10 +128,13 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
 def _fit_and_allowance(shell_result, network, fit_mm: float) -> tuple[float, float]:
     """(largest distance of the surface's faces from their Coons sub-patches, the allowance of the
     face that comes nearest to or goes furthest over its own: cad.analysis.fit_allowance)."""
-    dev = cad_analysis.fit_deviation(shell_result, network, n=FIT_GRID)
+    # the fit is that of the exact Coons faces: in G1 of the G0 faces the G1 faces were made from
+    # (G1 moves a face by at most cad.g1.OFFSET_FRACTION of the diagonal, on purpose), as app.build
+    fitted = cad_analysis.g0_view(shell_result)
+    dev = cad_analysis.fit_deviation(fitted, network, n=FIT_GRID)
     if not dev:
         return 0.0, float(fit_mm)
-    allow = cad_analysis.fit_allowance(shell_result, network, fit_mm)
+    allow = cad_analysis.fit_allowance(fitted, network, fit_mm)
     worst = max(dev, key=lambda r: dev[r] / allow[r])
     return max(dev.values()), allow[worst]
 
@@ -166,6 +172,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         "failed_loops": [{"side_strokes": [graph.edges[e].stroke for e, _ in c.sides], "reason": r}
                          for c, r in build.failed],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
+        "across_surfaces": dict(outcome.model.across),
         "strokes": strokes,
         "strokes_used": sum(r.used for r in build.roles),
         "quality": {"ok": not outcome.problems, "verdict": outcome.verdict()},
@@ -182,6 +189,12 @@ def object_summary(report: Mapping) -> str:
              f"strokes: {report['strokes_used']} of {len(report['strokes'])} used",
              f"largest gap between faces {max((s['seam_gap_max_mm'] for s in shells), default=0.0):.2e} mm "
              f"(surfaces sewn at {report['tolerances']['surface_sew_mm']:.3g} mm)"]
+    across = report.get("across_surfaces") or {}
+    if across:
+        lines.append(f"G1 across surfaces: of {across['smooth_curves']} smooth shared curves {across['tangent_curves']} "
+                     f"tangent-continuous (normals within 1 deg; G0: {across['g0_tangent_curves']}), largest angle "
+                     f"between the surfaces' normals {across['angle_max_deg']:.2f} deg (G0: "
+                     f"{across['g0_angle_max_deg']:.2f} deg); {across['sharp_curves']} drawn sharp, left G0")
     lines += [f"  stroke {s['index']} unused: {s['reason']}" for s in report["strokes"] if not s["used"]]
     lines += [f"  loop of strokes {f['side_strokes']} made no surface: {f['reason']}" for f in report["failed_loops"]]
     lines.append("wrote " + ", ".join(report["outputs"].values()))

@@ -208,7 +208,7 @@ def _fit_flux(knots: FloatArray, w: FloatArray, target: FloatArray, weight: Floa
 class _Seams:
     """Which face sides are G1 seams and the common normal along each."""
 
-    def __init__(self, infos, network, sharp: frozenset, limit: float = np.inf):
+    def __init__(self, infos, network, sharp: frozenset, limit: float = np.inf, across: dict | None = None):
         self.infos = {f.region_id: f for f in infos}
         self.limit = limit
         self._peaks: dict = {}    # edge id -> {region id: largest flux correction}, see flux_peaks()
@@ -220,6 +220,11 @@ class _Seams:
                     self.uses.setdefault(p.edge_id, []).append((f, k, p))
         self.sharp = frozenset(e for e in sharp if len(self.uses.get(e, ())) == 2)
         self.seam = {e for e, u in self.uses.items() if len(u) == 2 and e not in sharp}
+        # boundary edges that another surface of the object continues smoothly (cad.object_g1):
+        # seams whose second face is that surface's
+        self.across = {e: a for e, a in (across or {}).items()
+                       if len(self.uses.get(e, ())) == 1 and e not in sharp and a.smooth(*self.uses[e][0])}
+        self.seam |= set(self.across)
         corner_normals: dict = {}
         for f in infos:
             ids, _ = network.region_corners(f.region_id)
@@ -281,6 +286,8 @@ class _Seams:
         only one is, it stands for both). known: (FaceInfo, S_s, S_r) of one of the two faces at
         these points, already evaluated by the caller."""
         ts = np.asarray(ts, dtype=float)
+        if edge_id in self.across:
+            return self._pairs_across(edge_id, ts, known)
         (fa, ka, pa), (fb, kb, pb) = self.uses[edge_id]
         found = []
         for f, k, p in ((fa, ka, pa), (fb, kb, pb)):
@@ -296,13 +303,31 @@ class _Seams:
         nb = np.where(okb[:, None], nb, na)
         return na, nb, ds if ka in (0, 2) else dr, oka | okb
 
+    def _pairs_across(self, edge_id: int, ts: FloatArray, known: tuple | None):
+        """_pairs of a seam across surfaces: this face's normal, the other surface's at the same
+        points (turned to agree with it: the surfaces are oriented each on its own), the tangent."""
+        f, k, p = self.uses[edge_id][0]
+        w = p.a + ((1.0 - ts) if p.reversed else ts) * (p.b - p.a)
+        points, ds, dr = f.derived.derivatives.evaluate(*_side_points(k, w))
+        if known is not None and f is known[0]:
+            ds, dr = known[1:]
+        na, oka = unit_normals(ds, dr)
+        nb, okb = self.across[edge_id].normals(points)
+        nb = nb * np.where(np.einsum("ij,ij->i", na, nb) < 0.0, -1.0, 1.0)[:, None]
+        na = np.where(oka[:, None], na, nb)
+        nb = np.where(okb[:, None], nb, na)
+        return na, nb, ds if k in (0, 2) else dr, oka | okb
+
     def normals(self, edge_id: int, ts: FloatArray, known: tuple | None = None) -> tuple[FloatArray, FloatArray]:
         """Common normals of the seam at edge parameters ts (m,): (m, 3), and (m,) True where
         defined. The mean of the faces' normals, plus the differences to the node normals at the
         seam's ends distributed linearly along it (core.continuity.common_normals; the ends are
         evaluated once per seam, and every sample is blended with the same ends)."""
         e = self.edges[edge_id]
-        n0, n1 = (self._node_target(e.node0), self._node_target(e.node1))
+        # (a seam across surfaces keeps the mean of its faces' normals at its ends too: the other
+        # surface does the same there, and neither knows the other's node normals)
+        n0, n1 = ((None, None) if edge_id in self.across
+                  else (self._node_target(e.node0), self._node_target(e.node1)))
         ts = np.asarray(ts, dtype=float)
         na, nb, tan, ok = self._pairs(edge_id, ts, known)
         out = np.zeros((len(ts), 3))
@@ -461,7 +486,9 @@ def _moved(refined: _Refined, delta: FloatArray, widths: tuple) -> float:
     for wd in widths:
         g += [wd * np.linspace(0.0, 1.0, 17), 1.0 - wd * np.linspace(0.0, 1.0, 17)]
     g = np.unique(np.concatenate(g))
-    moved = np.einsum("ui,ijk,vj->uvk", basis_matrix(refined.ku, g), delta, basis_matrix(refined.kv, g))
+    # (one product at a time: einsum of the three at once loops over every index together, 0.1 s a face)
+    moved = np.einsum("ujk,vj->uvk", np.tensordot(basis_matrix(refined.ku, g), delta, axes=(1, 0)),
+                      basis_matrix(refined.kv, g))
     return float(np.linalg.norm(moved, axis=-1).max())
 
 
@@ -526,6 +553,8 @@ def _face_key(info, network, seams: _Seams) -> tuple:
             e = seams.edges[p.edge_id]
             nodes.update((e.node0, e.node1))
             other = tuple(sorted(id(f) for f, _, _ in seams.uses.get(p.edge_id, ())))
+            if p.edge_id in seams.across:
+                other += seams.across[p.edge_id].key
             edges.append((p.edge_id, e.node0, e.node1, other, p.edge_id in seams.seam, p.edge_id in seams.sharp))
     return (id(info), tuple(sorted(edges)), tuple(sorted((n, _node_value(seams, n)) for n in nodes)))
 
@@ -539,16 +568,20 @@ def _node_value(seams: _Seams, nid: int) -> tuple:
 
 
 def smooth_faces(infos, network, angle_deg: float = g1.KINK_ANGLE_DEG,
-                 lookup=None, keep: dict | None = None) -> tuple[tuple, frozenset]:
+                 lookup=None, keep: dict | None = None, across: dict | None = None,
+                 limit: float | None = None) -> tuple[tuple, frozenset]:
     """G1Face per G0 FaceInfo (same order), and the ids of the seams kept sharp (kinked strokes).
 
     lookup : key -> the G1Face an earlier call made for that key, or None; a face whose inputs (its
              G0 face and neighbours, the same objects; the normals of its nodes, the same values)
              are unchanged is taken from it.
-    keep   : receives this call's {key: G1Face} (reused and new), for the next call."""
+    keep   : receives this call's {key: G1Face} (reused and new), for the next call.
+    across : {boundary edge id: cad.object_g1.Across}: where another surface of a whole object lies
+             across a boundary edge; the edges it continues smoothly are seams like the inner ones.
+    limit  : how far (mm) a G1 face may lie from its G0 face; default offset_limit_mm(network)."""
     sharp = g1.sharp_edges(network, angle_deg)
-    limit = offset_limit_mm(network)
-    seams = _Seams(infos, network, sharp, limit)
+    limit = offset_limit_mm(network) if limit is None else limit
+    seams = _Seams(infos, network, sharp, limit, across)
     out = []
     for info in infos:
         key = ("g1", _face_key(info, network, seams))

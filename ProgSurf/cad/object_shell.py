@@ -18,8 +18,13 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+import numpy as np
+
+from ..core.strokes import sketch_diagonal
 from ..core.types import Tolerances
 from ._occ import Part
+from .g1 import OFFSET_FRACTION
+from .object_g1 import across_angles, across_maps
 from .shared_edges import graph_curves, outer_edges
 from .shell import build_shell
 
@@ -40,6 +45,11 @@ class ObjectShell:
     face_owner : per face of `shape`, the index of the surface it belongs to
     tolerance  : the sewing tolerance between surfaces, mm
     timings_s  : "surfaces" (fitting every surface's faces), "sew"
+    across     : G1 with shared curves (cad.object_g1.across_angles): the curves two surfaces share
+                 that are smooth ("smooth_curves") or drawn sharp ("sharp_curves"), the largest
+                 angle between the two surfaces' normals along a smooth one and how many smooth ones
+                 keep them within TANGENT_DEG, G1 ("angle_max_deg", "tangent_curves") and G0
+                 ("g0_angle_max_deg", "g0_tangent_curves"); empty otherwise
     """
 
     shape: object
@@ -48,6 +58,7 @@ class ObjectShell:
     face_owner: tuple
     tolerance: float
     timings_s: dict = field(default_factory=dict)
+    across: dict = field(default_factory=dict)
 
     @property
     def closed(self) -> tuple:
@@ -58,8 +69,6 @@ class ObjectShell:
 def _owner(shape, surfaces: list) -> tuple:
     """The surface each face of the sewn shape came from, found by a point of its surface."""
     from .sewing import probe_point
-
-    import numpy as np
 
     probes, owners = [], []
     for k, res in enumerate(surfaces):
@@ -101,12 +110,15 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     """Every surface's faces (cad.shell.build_shell of each BuildResult's network), sewn into
     one shell per connected part at OBJECT_SEW_FRACTION of the fit tolerance.
     built: per result, its ShellResult made earlier (with this continuity) to take as it is, or
-    None to build it (app.objects keeps them for an edited sketch).
+    None to build it (app.objects keeps them for an edited sketch); not in G1 with loops, where the
+    faces along a shared curve are made G1 with the other surface's (cad.object_g1).
     loops: ({graph edge id: (n, 3) points}, per result its cycle's ((graph edge id, reversed), ...)):
     each graph edge is then fitted once and every surface's boundary edges are pieces of those
     curves (cad.shared_edges), so that surfaces on one curve share it exactly."""
     clock = time.perf_counter()
-    built = list(built or [None] * len(results))
+    across_g1 = continuity == "G1" and loops is not None
+    # G1 across surfaces: a surface's faces depend on its neighbours', so every surface is built
+    built = [None] * len(results) if across_g1 else list(built or [None] * len(results))
     given = [None] * len(results)
     if loops is not None:
         polylines, sides = loops
@@ -115,6 +127,20 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm)
         for k in todo:
             given[k] = outer_edges(results[k].network, sides[k], curves)
+    across = {}
+    if across_g1:
+        # every surface in G0, the curves each shares with another found on those faces, then G1
+        # on the same curves and G0 faces (previous=) with the other surfaces' normals there
+        g0 = [build_shell(r.network, r.tol, given=g) for r, g in zip(results, given)]
+        maps = across_maps(g0, [r.network for r in results], OBJECT_SEW_FRACTION * tol.fit_mm)
+        # (G1 moves a face by at most OFFSET_FRACTION of the diagonal of the whole sketch, as it
+        # moves a single surface's by that of its own: issue 16's bound on the deviation from G0)
+        limit = OFFSET_FRACTION * sketch_diagonal(np.vstack([np.asarray(p) for p in polylines.values()]))
+        built = [build_shell(r.network, r.tol, continuity="G1", previous=b0, given=g, across=m, g1_limit_mm=limit)
+                 for r, b0, g, m in zip(results, g0, given, maps)]
+        across = across_angles(built, maps)
+        before = across_angles(g0, maps)
+        across.update({"g0_angle_max_deg": before["angle_max_deg"], "g0_tangent_curves": before["tangent_curves"]})
     built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity, given=g)
              for r, b, g in zip(results, built, given)]
     t_surfaces = time.perf_counter() - clock
@@ -127,4 +153,4 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     shells += [Part.Shell([f]) for f in loose]
     shape = shells[0] if len(shells) == 1 else Part.Compound(shells)
     timings = {"surfaces": t_surfaces, "sew": time.perf_counter() - clock}
-    return ObjectShell(shape, tuple(shells), tuple(built), _owner(shape, built), tolerance, timings)
+    return ObjectShell(shape, tuple(shells), tuple(built), _owner(shape, built), tolerance, timings, across)

@@ -155,14 +155,16 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") 
     return infos, (reused, built)
 
 
-def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache") -> tuple[list, frozenset]:
+def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache",
+             across: dict | None = None, limit: float | None = None) -> tuple[list, frozenset]:
     """G1 mode of build_shell: flux-corrected faces on the G0 faces' boundaries (cad.g1), and the
     ids of the seams kept sharp. G1 surfaces (`g1_faces`) and their faces (`g1_shapes`) are taken
-    from `cache` where their inputs are unchanged; this build's are put in `keep`."""
+    from `cache` where their inputs are unchanged; this build's are put in `keep`. across: the
+    boundary edges other surfaces continue, limit: the G1 faces' bound (cad.g1.smooth_faces)."""
     from .g1 import smooth_faces
 
     smooth, sharp = smooth_faces(g0_infos, network, lookup=lambda key: cache.lookup("g1_faces", key),
-                                 keep=keep.g1_faces)
+                                 keep=keep.g1_faces, across=across, limit=limit)
     infos = []
     for info, g in zip(g0_infos, smooth):
         key = id(g)          # the G1Face is kept in the entry, so its id stays its own

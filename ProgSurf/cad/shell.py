@@ -165,7 +165,8 @@ def network_diagonal(network) -> float:
 
 
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
-                previous: "ShellResult | None" = None, given: tuple | None = None) -> ShellResult:
+                previous: "ShellResult | None" = None, given: tuple | None = None,
+                across: dict | None = None, g1_limit_mm: float | None = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
     continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
@@ -176,6 +177,10 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                curves and faces whose inputs did not change are reused, so that after one more
                stroke only what it touched is fitted and built again, and sewn into its shell.
     given    : curves and node points made elsewhere for some edges (cad.edges.fit_edges(given=)).
+    across   : G1 mode: {boundary edge id: cad.object_g1.Across}, where another surface of a whole
+               object continues this one (cad.g1.smooth_faces).
+    g1_limit_mm : G1 mode: how far a G1 face may lie from its G0 face (default: cad.g1.offset_limit_mm
+               of the network; a whole object's surfaces take it of the whole sketch).
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
@@ -196,7 +201,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
         from .analysis import face_folds
 
         g0_faces = tuple(infos)
-        infos, sharp = g1_faces(network, g0_faces, last, cache)
+        infos, sharp = g1_faces(network, g0_faces, last, cache, across, g1_limit_mm)
         g0_folds = tuple(face_folds(g0_faces, sharp))
         infos, reverted = keep_no_new_fold(g0_faces, infos, sharp, g0_folds)
         timings["g1"] = time.perf_counter() - t2

@@ -1,0 +1,234 @@
+"""G1 across the curves that two surfaces of a whole object share (issue 18: "G1 across a shared
+curve where the sketch is smooth there, sharp where it was drawn sharp").
+
+Each surface is built on its own (cad.shell.build_shell); in G1 mode its faces are tangent-continuous
+across its inner seams (cad.g1). Where two surfaces share a curve, their boundary edges there are
+pieces of one curve (cad.shared_edges), so a point of one surface's side is a point of the other's.
+Each face along such a curve is told the other surface's normal there (Across), and its side becomes
+a seam like an inner one: both faces' flux corrections aim at the same common normal (the mean of
+the two G0 normals, the other one turned to agree with its own: each surface is oriented by its own
+pre-image), so the two faces meet tangent-continuous, within the same bound on how far G1 may move a
+face (cad.g1.OFFSET_FRACTION).
+
+A curve along which the two surfaces meet at an angle was drawn sharp (a box's edge): where, along
+it away from its ends, the directions in which the two faces leave the curve are more than
+SHARP_DEG from opposite (their median), it is left as G0 makes it. So is a curve that more than two surfaces
+share at one place (no one tangent plane there).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.bspline_surface import unit_normals
+from ..core.continuity import KINK_ANGLE_DEG
+from ..core.network import OUTER_CURVES
+from ..core.types import FloatArray
+
+SHARP_DEG = KINK_ANGLE_DEG
+"""Two surfaces leaving a shared curve more than this from opposite directions meet at a sharp
+curve (the rule for a stroke drawn with a kink, core.continuity.KINK_ANGLE_DEG)."""
+SIDE_SAMPLES = 129
+"""Points per side piece at which the other surfaces are looked up (then refined between them)."""
+CHECK = np.linspace(0.05, 0.95, 19)
+"""Edge parameters at which a shared curve is tested for a sharp angle and measured (ends left out:
+three or more surfaces meet there)."""
+
+
+def _side_points(k: int, w: FloatArray) -> tuple[FloatArray, FloatArray]:
+    from .g1 import _side_points as points
+
+    return points(k, w)
+
+
+def _inward(k: int, ds: FloatArray, dr: FloatArray) -> FloatArray:
+    """The derivative across side k (bottom, right, top, left) pointing into the face."""
+    return (dr, -ds, -dr, ds)[k]
+
+
+def _across_curve(inward: FloatArray, tangent: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """Unit (m, 3) of `inward` with its part along `tangent` removed, and (m,) where defined."""
+    t = tangent / np.maximum(np.linalg.norm(tangent, axis=1), 1e-300)[:, None]
+    d = inward - np.einsum("ij,ij->i", inward, t)[:, None] * t
+    size = np.linalg.norm(d, axis=1)
+    ok = size > 1e-9 * np.maximum(np.linalg.norm(inward, axis=1), 1e-300)
+    return d / np.where(ok, size, 1.0)[:, None], ok
+
+
+@dataclass(frozen=True)
+class _Side:
+    """One piece of a face's side on its surface's boundary, sampled for the lookup."""
+
+    surface: int
+    info: object
+    k: int
+    piece: object
+    w: FloatArray
+    points: FloatArray
+
+    def evaluate(self, w: FloatArray) -> tuple:
+        return self.info.derived.derivatives.evaluate(*_side_points(self.k, w))
+
+
+def _sides(results: list, networks: list) -> list[_Side]:
+    """Every boundary side piece of every G0 face of every surface (results: ShellResults,
+    networks: their PatchNetworks), sampled."""
+    out = []
+    for n, (res, network) in enumerate(zip(results, networks)):
+        edges = network.edges()
+        for info in res.g0_faces or res.faces:
+            for k, pieces in enumerate(info.sides):
+                for p in pieces:
+                    if edges[p.edge_id].curve_id in OUTER_CURVES:
+                        w = np.linspace(p.a, p.b, SIDE_SAMPLES)
+                        out.append(_Side(n, info, k, p, w, info.derived.derivatives.evaluate(*_side_points(k, w))[0]))
+    return out
+
+
+class Across:
+    """The faces of the other surface along one boundary edge of a surface: its normal and the
+    direction it leaves the curve in, at points of the curve."""
+
+    def __init__(self, sides: list, reach: float):
+        self.sides = sides
+        self.reach = reach
+        self.key = tuple(sorted(id(s.info) for s in sides))
+        """What the G1 faces along the edge read of the other surface (cad.g1._face_key)."""
+        self._points = np.concatenate([s.points for s in sides])
+        self._owner = np.repeat(np.arange(len(sides)), [len(s.points) for s in sides])
+        self._index = np.concatenate([np.arange(len(s.points)) for s in sides])
+        self._count = np.array([len(s.points) for s in sides])
+        self._w = np.concatenate([s.w for s in sides])
+
+    def _locate(self, points: FloatArray) -> tuple[np.ndarray, FloatArray, np.ndarray]:
+        """(side index (m,), its side parameter (m,), (m,) True where within reach) of points (m, 3):
+        the nearest sample, then the nearest point of the chords to its neighbours on its side."""
+        q = np.asarray(points, dtype=float).reshape(-1, 3)
+        near = ((q[:, None, :] - self._points[None, :, :]) ** 2).sum(axis=2).argmin(axis=1)
+        owner, i = self._owner[near], self._index[near]
+        best = np.linalg.norm(self._points[near] - q, axis=1)
+        w = self._w[near].copy()
+        for step in (-1, 1):
+            other = near + step
+            ok = (i + step >= 0) & (i + step < self._count[owner])
+            other = np.where(ok, other, near)
+            a, ab = self._points[near], self._points[other] - self._points[near]
+            x = np.clip(np.einsum("ij,ij->i", q - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300), 0.0, 1.0)
+            d = np.linalg.norm(a + x[:, None] * ab - q, axis=1)
+            better = ok & (d < best)
+            best = np.where(better, d, best)
+            w = np.where(better, self._w[near] + x * (self._w[other] - self._w[near]), w)
+        return owner, w, best <= self.reach
+
+    def _frames(self, points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
+        """(normals, inward derivatives, tangents along the side, defined), each (m, 3) / (m,)."""
+        owner, w, ok = self._locate(points)
+        m = len(w)
+        normals, inward, tangent = np.zeros((m, 3)), np.zeros((m, 3)), np.zeros((m, 3))
+        for o in np.unique(owner):
+            rows = np.flatnonzero(owner == o)
+            side = self.sides[o]
+            _, ds, dr = side.evaluate(w[rows])
+            n, n_ok = unit_normals(ds, dr)
+            normals[rows], inward[rows] = n, _inward(side.k, ds, dr)
+            tangent[rows] = ds if side.k in (0, 2) else dr
+            ok[rows] &= n_ok
+        return normals, inward, tangent, ok
+
+    def normals(self, points: FloatArray) -> tuple[FloatArray, np.ndarray]:
+        """The other surface's unit normals (m, 3) at points (m, 3) of the curve, (m,) where defined."""
+        normals, _, _, ok = self._frames(points)
+        return normals, ok
+
+    def angle_deg(self, info, k: int, piece) -> FloatArray:
+        """At CHECK along the piece of side k of face info: how far (deg) the two surfaces leave
+        the curve from opposite directions (0: one smooth surface; 90: a box's edge); NaN where
+        either is undefined."""
+        w = piece.a + ((1.0 - CHECK) if piece.reversed else CHECK) * (piece.b - piece.a)
+        points, ds, dr = info.derived.derivatives.evaluate(*_side_points(k, w))
+        tangent = ds if k in (0, 2) else dr
+        mine, ok_a = _across_curve(_inward(k, ds, dr), tangent)
+        _, inward, _, ok = self._frames(points)
+        other, ok_b = _across_curve(inward, tangent)
+        cos = np.clip(-np.einsum("ij,ij->i", mine, other), -1.0, 1.0)
+        return np.where(ok & ok_a & ok_b, np.degrees(np.arccos(cos)), np.nan)
+
+    def smooth(self, info, k: int, piece) -> bool:
+        """True where the two surfaces continue each other along the piece: their median angle
+        (angle_deg) within SHARP_DEG (a box's edge reads 90 deg all along; two Coons faces of one
+        smooth surface can part by more near a node where their strokes stop apart)."""
+        angles = self.angle_deg(info, k, piece)
+        return bool(np.isfinite(angles).any() and np.nanmedian(angles) <= SHARP_DEG)
+
+
+def across_maps(results: list, networks: list, reach: float) -> list[dict]:
+    """Per surface, {boundary edge id: Across} of its boundary edges along which, at every point
+    (within reach mm: the sewing tolerance), exactly one other surface lies (the same or one after
+    another), from the G0 faces. results: ShellResults, networks: their PatchNetworks."""
+    sides = _sides(results, networks)
+    out: list[dict] = [{} for _ in results]
+    if not sides:
+        return out
+    lo = np.array([s.points.min(axis=0) - reach for s in sides])
+    hi = np.array([s.points.max(axis=0) + reach for s in sides])
+    surface = np.array([s.surface for s in sides])
+    for j, mine in enumerate(sides):
+        near = np.flatnonzero((surface != mine.surface) & np.all(lo <= hi[j], axis=1) & np.all(lo[j] <= hi, axis=1))
+        p = mine.piece
+        q = mine.evaluate(p.a + CHECK * (p.b - p.a))[0]
+        # which other surfaces lie along it, point by point: one along all of it (in one or more
+        # faces, of one or more surfaces one after another), never two at one point
+        others = sorted({sides[i].surface for i in near})
+        reached = np.array([Across([sides[i] for i in near if sides[i].surface == n], reach)._locate(q)[2]
+                            for n in others]).reshape(len(others), len(q))
+        if not len(others) or not np.all(reached.sum(axis=0) == 1):
+            continue
+        along = {n for n, hit in zip(others, reached) if hit.any()}
+        out[mine.surface][p.edge_id] = Across([sides[i] for i in near if sides[i].surface in along], reach)
+    return out
+
+
+TANGENT_DEG = 1.0
+"""A shared curve along which the two surfaces' normals stay within this is counted tangent-continuous."""
+
+
+def across_angles(results: list, maps: list) -> dict:
+    """The angles (deg) between the two surfaces' normals along every shared curve that is smooth
+    in G0 (CHECK points, the other's normal turned to agree): the largest, how many such curves
+    stay within TANGENT_DEG, and how many curves of each kind (the G1 defect across surfaces: 0
+    where tangent-continuous). results: the built ShellResults (their faces: G0 or G1), maps:
+    across_maps of their G0 faces."""
+    worst, smooth, sharp, tangent = 0.0, 0, 0, 0
+    for res, found in zip(results, maps):
+        final = {info.region_id: info for info in res.faces}
+        for info in res.g0_faces or res.faces:
+            for k, pieces in enumerate(info.sides):
+                for p in pieces:
+                    a = found.get(p.edge_id)
+                    if a is None:
+                        continue
+                    if not a.smooth(info, k, p):
+                        sharp += 1
+                        continue
+                    smooth += 1
+                    w = p.a + CHECK * (p.b - p.a)
+                    points, ds, dr = final[info.region_id].derived.derivatives.evaluate(*_side_points(k, w))
+                    na, ok_a = unit_normals(ds, dr)
+                    other = Across([_Side(s.surface, _final(s, results), s.k, s.piece, s.w, s.points)
+                                    for s in a.sides], a.reach)
+                    nb, ok_b = other.normals(points)
+                    ok = ok_a & ok_b
+                    angle = np.degrees(np.arccos(np.clip(np.abs(np.einsum("ij,ij->i", na, nb))[ok], 0.0, 1.0)))
+                    top = float(angle.max()) if len(angle) else 0.0
+                    worst = max(worst, top)
+                    tangent += top <= TANGENT_DEG
+    return {"smooth_curves": smooth, "sharp_curves": sharp, "tangent_curves": tangent, "angle_max_deg": worst}
+
+
+def _final(side: _Side, results: list):
+    """The built face (G0 or G1) of the G0 face a side sample belongs to."""
+    for info in results[side.surface].faces:
+        if info.region_id == side.info.region_id:
+            return info
+    return side.info
