@@ -10,9 +10,9 @@ the two G0 normals, the other one turned to agree with its own: each surface is 
 pre-image), so the two faces meet tangent-continuous, within the same bound on how far G1 may move a
 face (cad.g1.OFFSET_FRACTION).
 
-A curve along which the two surfaces meet at an angle was drawn sharp (a box's edge): where, along
-it away from its ends, the directions in which the two faces leave the curve are more than
-SHARP_DEG from opposite (their median), it is left as G0 makes it. So is a curve that more than two surfaces
+A curve along which the two surfaces meet at an angle was drawn sharp (a box's edge): where, at any
+point along it away from its ends, the directions in which the two faces leave the curve are more
+than SHARP_DEG from opposite, it is left as G0 makes it. So is a curve that more than two surfaces
 share at one place (no one tangent plane there).
 """
 from __future__ import annotations
@@ -155,11 +155,12 @@ class Across:
         return np.where(ok & ok_a & ok_b, np.degrees(np.arccos(cos)), np.nan)
 
     def smooth(self, info, k: int, piece) -> bool:
-        """True where the two surfaces continue each other along the piece: their median angle
-        (angle_deg) within SHARP_DEG (a box's edge reads 90 deg all along; two Coons faces of one
-        smooth surface can part by more near a node where their strokes stop apart)."""
+        """True where the two surfaces continue each other all along the piece: angle_deg within
+        SHARP_DEG everywhere. (The median alone let in curves along which the faces part by 60-90
+        deg somewhere, a fin where another surface folds back; G1 then made fuselage1's worst angle
+        across surfaces 90 deg where G0 had 51.)"""
         angles = self.angle_deg(info, k, piece)
-        return bool(np.isfinite(angles).any() and np.nanmedian(angles) <= SHARP_DEG)
+        return bool(np.isfinite(angles).any() and np.nanmax(angles) <= SHARP_DEG)
 
 
 def across_maps(results: list, networks: list, reach: float) -> list[dict]:
