@@ -1,12 +1,12 @@
 """The cycles of a stroke network that bound surfaces, a manifold choice (issue 18, part 2).
 
-Each node gets a normal from the directions of its edges (the plane they span, or for a corner
-whose edges leave it to one side, like a cube's, their mean), oriented consistently along the
-graph. Ordering its edges by angle about that normal gives a rotation system; its faces (walk an
-edge, turn to the next edge around the node, repeat) use every edge at most once in each
-direction, so each curve bounds at most two surfaces: the manifold choice that Zhuang, Zou, Carr
-and Ju (2013) make with a local "mapping" at each node and that CASSIE makes by walking the graph
-with node normals.
+Each node gets a normal from the directions of its edges (the plane they span, or for an apex
+or corner whose edges leave it to one side, like a cone's tip or a cube's corner, the plane
+through their tips), oriented consistently along the graph. Ordering its edges by angle about
+that normal gives a rotation system; its faces (walk an edge, turn to the next edge around the
+node, repeat) use every edge at most once in each direction, so each curve bounds at most two
+surfaces: the manifold choice that Zhuang, Zou, Carr and Ju (2013) make with a local "mapping" at
+each node and that CASSIE makes by walking the graph with node normals.
 
 Not every face bounds a surface: per connected part, a face that runs the other way round the
 node normals than the most faces do is the outer face of an open sheet (a grid's border), and a
@@ -30,6 +30,15 @@ of its loop (in the part's orientation), is at least this."""
 ISOTROPIC = 0.4
 """Edge directions whose smallest scatter eigenvalue is at least this fraction of the largest
 span no plane (a cube's corner): the node's normal is then their mean."""
+
+APEX_COS = 0.5
+"""A node whose edges all leave it within 60 degrees of their mean direction (cos >= this) is an
+apex or a corner: the tip of a cone whose rulings meet there, a cube's corner. Its normal is the
+normal of the plane through the tips of the edge directions (for a cone, its axis; for a cube's
+corner, the mean), about which the edges turn in order; the plane through the directions
+themselves, right for a node inside a sheet, would lie along the cone's axis and order its
+rulings at random. The TiGL fuselage's tail apex closes with 0.5; with 0.8 it does not, with 0.2
+10-2-1's network changes."""
 
 TANGENT_REACH = 3.0
 """An edge's direction at a node is taken to its point this many delta along it (at most 30 % of it)."""
@@ -122,11 +131,19 @@ def _half_edges(graph: StrokeGraph, live: set) -> dict:
 
 
 def _raw_normal(tangents: FloatArray) -> FloatArray | None:
-    """The normal of the plane the edge directions span (None for two collinear ones)."""
+    """The normal of the plane the edge directions span (None for two collinear ones); at an apex
+    (APEX_COS), the direction about which they turn."""
     if len(tangents) == 2:
         n = np.cross(tangents[0], tangents[1])
         norm = np.linalg.norm(n)
         return n / norm if norm > 1e-6 else None
+    mean = tangents.mean(axis=0)
+    size = np.linalg.norm(mean)
+    if size > 1e-9 and np.min(tangents @ (mean / size)) >= APEX_COS:
+        # the directions' tips lie round their mean: the normal of the plane through the tips
+        w, v = np.linalg.eigh((tangents - mean).T @ (tangents - mean))
+        if w[1] > 1e-6 * w[-1]:
+            return v[:, 0] if v[:, 0] @ mean >= 0 else -v[:, 0]
     w, v = np.linalg.eigh(tangents.T @ tangents)
     if w[0] >= ISOTROPIC * w[-1]:
         m = tangents.sum(axis=0)

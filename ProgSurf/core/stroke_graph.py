@@ -7,12 +7,18 @@ distance of core.pipeline: SNAP_FRACTION of the sketch's diagonal), following th
 CASSIE (Yu et al., CHI 2021) publishes:
 
 - crossings and near-crossings closer than delta become shared nodes (one per run of close
-  segments; the closest pair of points of the run, their midpoint the node);
+  segments; the closest pair of points of the run, their midpoint the node; a run that continues
+  across a closed stroke's seam is one run: core.stroke_nodes.seam_twins);
 - a stroke end within PROXIMITY x delta of another stroke becomes a T-node on that stroke (or a
-  shared corner when it is near the other stroke's end); node candidates closer than delta merge;
+  shared corner when it is near the other stroke's end); node candidates closer than delta merge,
+  but two that would make one node of two places of a stroke merge only within a few times the
+  gap the strokes leave there (core.stroke_nodes.merge_candidates), so that a feature smaller
+  than delta, drawn precisely, keeps its nodes apart;
 - a stroke lying within delta of a longer one along OVERSKETCH_COVER of its length is an
   over-sketch of it: merged (left out, recorded); a stroke whose end runs along another over more
-  than PROXIMITY x delta is trimmed where it leaves it, and joined there;
+  than PROXIMITY x delta is trimmed where it leaves it, and joined there, unless the two strokes
+  end together there and part steadily, the rulings of a cone at its tip: they meet at that apex
+  (core.stroke_nodes.apex_meeting);
 - an end piece beyond the stroke's last node no longer than HOOK x delta and HOOK_FRACTION of the
   stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1.
 
@@ -27,6 +33,8 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
+from .stroke_nodes import (NodeCandidates, apex_meeting, components, merge_candidates, nearest_on, seam_twins,
+                           segment_distances)
 from .strokes import chord_length, cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -92,7 +100,8 @@ class StrokeGraph:
     """The stroke network of a sketch.
 
     nodes   : GraphNode per node       edges : GraphEdge per edge
-    delta   : the distance (mm) under which curves count as touching
+    delta   : the distance (mm) under which curves count as touching (places of one stroke
+              closer than it can still be distinct nodes: core.stroke_nodes.merge_candidates)
     strokes : the (filtered) stroke polylines the graph was made from, in input order
     notes   : {stroke index: what became of it}: "merged into stroke k (over-sketch)", "hook of
               x mm removed at its start/end", "isolated (touches no other stroke)", ...
@@ -119,78 +128,6 @@ class StrokeGraph:
 
     def edges_of_stroke(self, stroke: int) -> list:
         return [e for e in self.edges if e.stroke == stroke]
-
-
-def segment_distances(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Closest points between every segment of polyline a (m-1 segments) and of b (k-1 segments):
-    (distance (m-1, k-1), parameter s in [0, 1] along a's segment, t along b's). Ericson,
-    "Real-time collision detection", 5.1.9, vectorised; parallel segments take s from a's start."""
-    p1, d1 = a[:-1, None, :], np.diff(a, axis=0)[:, None, :]
-    p2, d2 = b[None, :-1, :], np.diff(b, axis=0)[None, :, :]
-    r = p1 - p2
-    aa = np.einsum("ijk,ijk->ij", d1, d1) + np.zeros((1, len(b) - 1))
-    ee = np.einsum("ijk,ijk->ij", d2, d2) + np.zeros((len(a) - 1, 1))
-    ff = np.einsum("ijk,ijk->ij", d2, r)
-    cc = np.einsum("ijk,ijk->ij", d1, r)
-    bb = np.einsum("ijk,ijk->ij", d1, d2)
-    den = aa * ee - bb * bb
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(den > 1e-12 * aa * ee, np.clip((bb * ff - cc * ee) / den, 0.0, 1.0), 0.0)
-        t = (bb * s + ff) / np.maximum(ee, 1e-300)
-        s = np.where(t < 0, np.clip(-cc / np.maximum(aa, 1e-300), 0.0, 1.0),
-                     np.where(t > 1, np.clip((bb - cc) / np.maximum(aa, 1e-300), 0.0, 1.0), s))
-    t = np.clip(t, 0.0, 1.0)
-    dist = np.linalg.norm(p1 + d1 * s[..., None] - p2 - d2 * t[..., None], axis=2)
-    return dist, s, t
-
-
-def _components(mask: np.ndarray) -> list:
-    """8-connected components of the True cells of a 2D mask: [(rows, cols)]."""
-    seen = np.zeros_like(mask)
-    out = []
-    for i, j in zip(*np.nonzero(mask)):
-        if seen[i, j]:
-            continue
-        stack, cells = [(i, j)], []
-        seen[i, j] = True
-        while stack:
-            x, y = stack.pop()
-            cells.append((x, y))
-            for dx in (-1, 0, 1):
-                for dy in (-1, 0, 1):
-                    u, v = x + dx, y + dy
-                    if 0 <= u < mask.shape[0] and 0 <= v < mask.shape[1] and mask[u, v] and not seen[u, v]:
-                        seen[u, v] = True
-                        stack.append((u, v))
-        rows, cols = zip(*cells)
-        out.append((np.array(rows), np.array(cols)))
-    return out
-
-
-def _nearest_on(points: FloatArray, poly: FloatArray, cum: FloatArray | None = None) -> tuple[FloatArray, FloatArray]:
-    """Distance of each point (k, 3) to a polyline and the arc length of its footpoint: (k,), (k,).
-    cum: cumulative_length(poly), when the caller has it already."""
-    a, ab = poly[:-1], np.diff(poly, axis=0)
-    ll = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
-    w = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], ab) / ll, 0.0, 1.0)
-    d = np.linalg.norm(a[None] + w[..., None] * ab[None] - points[:, None, :], axis=2)
-    j = d.argmin(axis=1)
-    cum = cumulative_length(poly) if cum is None else cum
-    seg = np.sqrt(ll)
-    k = np.arange(len(points))
-    return d[k, j], cum[j] + w[k, j] * seg[j]
-
-
-class _Candidates:
-    """Node candidates: each a point and the (stroke, arc length) attachments it stands for."""
-
-    def __init__(self) -> None:
-        self.points: list = []
-        self.attach: list = []
-
-    def add(self, point, attachments) -> None:
-        self.points.append(np.asarray(point, dtype=float))
-        self.attach.append(list(attachments))
 
 
 class _Boxes:
@@ -228,13 +165,13 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
             inbox = np.all((probe >= boxes.lo[i] - reach) & (probe <= boxes.hi[i] + reach), axis=1)
             if np.mean(inbox) < OVERSKETCH_COVER:
                 continue
-            d, _ = _nearest_on(probe, strokes[i])
+            d, _ = nearest_on(probe, strokes[i])
             if np.mean(d <= delta) >= OVERSKETCH_COVER:
                 merged[j] = i
     return merged
 
 
-def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trims: dict) -> None:
+def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, trims: dict) -> None:
     """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring)."""
     cums = [cumulative_length(s) for s in strokes]
     boxes = _Boxes(strokes)
@@ -245,15 +182,16 @@ def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trim
             if not near[j]:
                 continue
             dist, s, t = segment_distances(a, b)
-            for rows, cols in _components(dist <= delta):
+            comps = components(dist <= delta)
+            runs = [_is_run(cums[i], cums[j], rows, cols, delta) for rows, cols in comps]
+            kept = seam_twins(comps, dist, np.linalg.norm(a[0] - a[-1]) <= delta,
+                              np.linalg.norm(b[0] - b[-1]) <= delta, runs)
+            for (rows, cols), run in ((comps[k], runs[k]) for k in kept):
                 k = int(np.argmin(dist[rows, cols]))
                 r, c = rows[k], cols[k]
                 sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
                 sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
-                # how far the run follows each stroke: a crossing covers about 2 delta at most
-                ra = cums[i][rows.max() + 1] - cums[i][rows.min()]
-                rb = cums[j][cols.max() + 1] - cums[j][cols.min()]
-                if min(ra, rb) > 2 * PROXIMITY * delta:
+                if run and not apex_meeting(a, b, cums[i], cums[j], rows, cols, delta):
                     # a run along the other stroke: trim the stroke whose end lies in the run
                     _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes)
                     continue
@@ -262,7 +200,15 @@ def _crossings(strokes: list, live: list, delta: float, cands: _Candidates, trim
                 cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
 
 
-def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: _Candidates, strokes: list) -> None:
+def _is_run(cum_a: FloatArray, cum_b: FloatArray, rows: np.ndarray, cols: np.ndarray, delta: float) -> bool:
+    """Whether a component of close segment pairs (rows of a, cols of b) follows both strokes over
+    more than 2 PROXIMITY delta: a crossing covers about 2 delta of each at most."""
+    along_a = cum_a[rows.max() + 1] - cum_a[rows.min()]
+    along_b = cum_b[cols.max() + 1] - cum_b[cols.min()]
+    return min(along_a, along_b) > 2 * PROXIMITY * delta
+
+
+def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCandidates, strokes: list) -> None:
     """A stroke that runs along another over part of its length (an over-sketched run): the one
     whose end lies in the run is cut where the run leaves it and joined to the other there."""
     for me, other, mine, theirs, sp, tp in ((i, j, rows, cols, s, t), (j, i, cols, rows, t.T, s.T)):
@@ -275,7 +221,7 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: _Candi
             keep_from = hi if at_start else lo
             trims.setdefault(me, []).append((at_start, keep_from))
             p = point_at_length(strokes[me], keep_from, cum)
-            d, s_other = _nearest_on(p[None], strokes[other], cums[other])
+            d, s_other = nearest_on(p[None], strokes[other], cums[other])
             cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0], cums[other])),
                       [(me, keep_from), (other, s_other[0])])
             return
@@ -288,7 +234,7 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: _Candi
               [(i, sa), (j, sb)])
 
 
-def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> None:
+def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -> None:
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
     own other end, for a closed stroke) is joined to its nearest point there."""
     reach = PROXIMITY * delta
@@ -302,7 +248,7 @@ def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> N
             for j in live:
                 if j == i or not near[j]:
                     continue
-                d, sj = _nearest_on(p[None], strokes[j], cums[j])
+                d, sj = nearest_on(p[None], strokes[j], cums[j])
                 if d[0] <= reach and (best is None or d[0] < best[0]):
                     best = (d[0], j, sj[0])
             if best is not None:
@@ -310,25 +256,6 @@ def _end_joins(strokes: list, live: list, delta: float, cands: _Candidates) -> N
                 cands.add(0.5 * (p + point_at_length(strokes[j], sj, cums[j])), [(i, s_end), (j, sj)])
         if total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach:
             cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
-
-
-def _cluster(points: list, delta: float) -> list:
-    """Single-linkage clusters of points closer than delta: a cluster label per point."""
-    n = len(points)
-    parent = list(range(n))
-
-    def find(k: int) -> int:
-        while parent[k] != k:
-            parent[k] = parent[parent[k]]
-            k = parent[k]
-        return k
-
-    if n:
-        pts = np.array(points)
-        d = np.linalg.norm(pts[:, None] - pts[None], axis=2)
-        for a, b in zip(*np.nonzero(np.triu(d <= delta, 1))):
-            parent[find(a)] = find(b)
-    return [find(k) for k in range(n)]
 
 
 def _piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray, p1: FloatArray) -> FloatArray:
@@ -355,7 +282,7 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
         notes[j] = f"merged into stroke {i} (drawn over it)"
     live = [i for i in range(len(arrays)) if i not in short and i not in merged]
 
-    cands = _Candidates()
+    cands = NodeCandidates()
     trims: dict = {}
     _crossings(arrays, live, delta, cands, trims)
     _end_joins(arrays, live, delta, cands)
@@ -370,7 +297,7 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
                 keep_range[i][1] = min(keep_range[i][1], s)
             notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
 
-    labels = _cluster(cands.points, delta)
+    labels = merge_candidates(cands, arrays, delta)
     groups: dict = {}
     for k, lab in enumerate(labels):
         groups.setdefault(lab, []).append(k)
@@ -481,7 +408,7 @@ def _merge_parallel(edges: list, delta: float) -> list:
         for f in out:
             if {f[0], f[1]} != {n0, n1} or n0 == n1:
                 continue
-            d, _ = _nearest_on(pts, f[2])
+            d, _ = nearest_on(pts, f[2])
             if np.mean(d <= delta) >= OVERSKETCH_COVER:
                 dup = True
                 break

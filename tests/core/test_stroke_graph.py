@@ -1,6 +1,8 @@
 """The stroke network (core.stroke_graph) and its surface cycles (core.stroke_cycles), on sketches
 with a known answer: a T-junction, a dangling stroke, an over-sketched pair, a hook, a grid, a
-cube's edges, a cylinder's rims and rulings, one loop; invariant under a rigid motion."""
+cube's edges, a cylinder's rims and rulings, one loop, a tube tapering to a point at both ends
+whose end profiles are smaller than the touching distance, a loosely drawn junction, two strokes
+meeting at an apex; invariant under a rigid motion."""
 from __future__ import annotations
 
 import itertools
@@ -35,6 +37,30 @@ def grid(z=lambda x, y: 0 * x, n=3, size=3.0, samples=30):
     ticks = np.linspace(0, size, n)
     return ([lift(line([0, y], [size, y], samples)) for y in ticks]
             + [lift(line([x, 0], [x, size], samples)) for x in ticks])
+
+
+def tube_radius(x, length=1000.0, body=100.0, cone=400.0, tip=5.0):
+    """A body of revolution about the x axis: a cone from a 5 mm tip to 100 mm over 400 mm at each
+    end of a 1000 mm tube (a fuselage's nose and tail: cones of half-angle 13 degrees)."""
+    x = np.asarray(x, float)
+    slope = (body - tip) / cone
+    return np.minimum(tip + slope * np.clip(x, 0, cone), tip + slope * np.clip(length - x, 0, cone))
+
+
+TUBE_STATIONS = (0.0, 60.0, 150.0, 300.0, 500.0, 700.0, 850.0, 940.0, 1000.0)
+
+
+def tapered_tube(guides=8, n=80):
+    """Profiles (circles about the x axis) at TUBE_STATIONS and `guides` rulings from tip to tip,
+    all on tube_radius: crossing exactly, as a CAD curve network does. Its diagonal is 1039 mm, so
+    the automatic touching distance (2 %) is 20.8 mm: larger than the tips' profiles (31 mm round),
+    and the crossings on the profiles next to the tips (r = 24 mm) lie 0.9 of it apart."""
+    th = np.linspace(0, 2 * np.pi, n + 1)
+    profiles = [np.c_[np.full_like(th, x), tube_radius(x) * np.cos(th), tube_radius(x) * np.sin(th)]
+                for x in TUBE_STATIONS]
+    xs = np.linspace(0, 1000, n)
+    angles = np.arange(guides) * 2 * np.pi / guides + 0.2
+    return profiles + [np.c_[xs, tube_radius(xs) * np.cos(a), tube_radius(xs) * np.sin(a)] for a in angles]
 
 
 def rigid(strokes, seed=3):
@@ -139,3 +165,62 @@ def test_isolated_and_tiny_strokes_are_explained():
     g = build_stroke_graph([line([0, 0, 0], [10, 0, 0]), line([0, 5, 0], [10, 5, 0]), line([3, 3, 0], [3.1, 3, 0])], 0.3)
     assert "isolated" in g.notes[0] and "isolated" in g.notes[1]
     assert "shorter" in g.notes[2]
+
+
+@pytest.mark.parametrize("move", [False, True])
+def test_tapered_tube_keeps_small_profiles_apart_and_meets_at_its_tips(move):
+    """A tube whose profiles next to its tips are smaller than the touching distance allows for
+    (8 crossings 0.9 delta apart) and whose rulings run within delta of each other for 5.5 delta
+    into each tip: every profile but the tips' keeps one node per ruling, the rulings meet at one
+    node at each tip (degree 8), and every edge bounds two cycles: a closed surface. (Before:
+    single linkage at delta made one node of each profile next to a tip, and the rulings were
+    trimmed as over-sketched runs along each other: 30 edges bounded one cycle.)"""
+    from ProgSurf.core.objects import stroke_network
+
+    strokes = tapered_tube()
+    g, choice, _ = stroke_network(rigid(strokes) if move else strokes)
+    spacing = 2 * np.pi * tube_radius(60.0) / 8
+    assert spacing < g.delta                              # the case: crossings closer than delta
+    for i in range(1, len(TUBE_STATIONS) - 1):
+        nodes = {n for e in g.edges_of_stroke(i) for n in (e.node0, e.node1)}
+        assert len(nodes) == 8, (i, len(nodes))
+    rulings = range(len(TUBE_STATIONS), len(strokes))
+    assert not any("trimmed" in g.notes.get(i, "") for i in rulings)
+    tips = [n for n in g.nodes if g.degree(n.id) == 8]
+    assert len(tips) == 2
+    if not move:
+        assert sorted(n.point[0] for n in tips) == pytest.approx([0.0, 1000.0], abs=2 * g.delta)
+    uses = [e for c in choice.cycles for e, _ in c.sides]
+    assert sorted(set(uses)) == [e.id for e in g.edges] and all(uses.count(e) == 2 for e in set(uses))
+    assert sorted(len(c.sides) for c in choice.cycles) == [3] * 16 + [4] * 48
+
+
+def test_loosely_drawn_junction_is_one_node():
+    """Three strokes drawn through one point, each missing it by up to 0.3 delta (a hand in VR):
+    one node where all three meet, not the three pairwise near-crossings."""
+    d = 1.0
+    strokes = [line([-10, 0.0, 0.1], [10, 0.0, 0.1]),
+               line([0.25, -10, -0.1], [-0.05, 10, -0.1]),
+               line([-7, -7, 0.3], [7.2, 7.0, -0.2])]
+    g = build_stroke_graph(strokes, d)
+    assert len([n for n in g.nodes if n.kind == "crossing"]) == 1
+    centre = [n for n in g.nodes if n.kind == "crossing"][0]
+    assert np.linalg.norm(centre.point) < 0.3 * d and g.degree(centre.id) == 6
+
+
+def test_strokes_ending_together_and_parting_meet_at_an_apex():
+    """Two strokes drawn from one point 8 degrees apart stay within delta of each other for 7 delta:
+    they meet at a corner there and both are kept whole (core.stroke_nodes.apex_meeting), while a
+    stroke drawn from the same point along the other for 6 delta and then away is an over-sketched
+    run: one of the two is trimmed where the run ends and joined there."""
+    d = 1.0
+    a = line([0, 0, 0], [30, 0, 0], 61)
+    b = line([0, 0, 0], [30 * np.cos(np.radians(8)), 30 * np.sin(np.radians(8)), 0], 61)
+    g = build_stroke_graph([a, b], d)
+    assert not g.notes
+    corner = [n for n in g.nodes if g.degree(n.id) == 2]
+    assert len(corner) == 1 and np.linalg.norm(corner[0].point) < 1e-9
+    assert [round(e.length, 6) for e in g.edges_of_stroke(1)] == [30.0]
+    over = np.vstack([line([0, 0.2, 0], [6, 0.2, 0], 13), line([6.5, 0.4, 0], [12, 8, 0], 12)])
+    g = build_stroke_graph([a, over], d)
+    assert any("over-sketched run along another stroke trimmed (start)" in note for note in g.notes.values())
