@@ -61,6 +61,31 @@ def test_tapered_tube_builds_one_closed_shell_without_a_boundary_named():
     assert abs(Part.Solid(shell).Volume) == pytest.approx(body, rel=0.01)
 
 
+def test_edges_end_at_the_middle_of_their_faired_strokes():
+    """core.objects.faired_nodes / edge_polylines with known faired strokes: two lines crossing at
+    the origin, faired 1 mm and 3 mm up, meet at z = 2 mm (the middle of their faired points, where
+    the graph's node stays at 0), their free ends stay on them, and every edge runs along its
+    faired stroke from its nodes: a jump of half the strokes' separation at the crossing, none at
+    a free end."""
+    from ProgSurf.core.objects import edge_polylines, faired_nodes
+    from ProgSurf.core.stroke_graph import build_stroke_graph
+
+    strokes = [line([-10, 0, 0], [10, 0, 0], 21), line([0, -10, 0], [0, 10, 0], 21)]
+    g = build_stroke_graph(strokes, 0.5)
+    lift = {0: 1.0, 1: 3.0}
+    faired = [s + [0, 0, lift[i]] for i, s in enumerate(strokes)]
+    nodes = faired_nodes(g, faired)
+    crossing = [n.id for n in g.nodes if n.kind == "crossing"]
+    assert len(crossing) == 1 and np.allclose(nodes[crossing[0]], [0, 0, 2.0], atol=1e-12)
+    polylines = edge_polylines(g, faired)
+    for e in g.edges:
+        pts = polylines[e.id]
+        assert np.array_equal(pts[0], nodes[e.node0]) and np.array_equal(pts[-1], nodes[e.node1])
+        assert np.allclose(pts[1:-1, 2], lift[e.stroke])
+        for node, p in ((e.node0, pts[0]), (e.node1, pts[-1])):
+            assert abs(p[2] - lift[e.stroke]) == pytest.approx(1.0 if node in crossing else 0.0, abs=1e-12)
+
+
 def test_cylinder_rims_and_rulings_give_a_tube_closed_around():
     out = build_object_and_measure(cylinder())
     assert len(out.model.shells) == 1
