@@ -35,6 +35,16 @@ within delta gives them; at 1.5 and 2, 02-0-2 gains 3 edges and a loop, at 1 10-
 strokes on loops; the noisy TiGL fuselage's nose keeps its profile's crossings apart up to 4
 (the wrong junctions there span 4.35 to 4.68 times their largest gap) and opens at 5."""
 
+MIDDLE_REACH = 2.0
+"""Three strokes that cross one another pairwise within delta, each crossing farther than this
+many delta from the ends of its strokes, are one junction drawn through one place however
+precisely they cross: a clean sketchgen dome has three strokes crossing in their middles (13-14
+delta from their ends) in a triangle of 0.7 delta, which kept apart made a sliver loop, loops
+facing every way, and a sketch of one surface built as several (exit 3). Near the strokes' ends
+the rules above stand: the guides of the noisy TiGL fuselage converge to its nose in triangles of
+0.6-0.95 delta with crossings 0-0.8 delta from their ends (the 2 delta of a T-node's reach,
+core.stroke_graph.PROXIMITY, separates them)."""
+
 APEX_PARTING = 0.25
 """Two strokes that end together in a run along each other meet at an apex when, halfway along the
 run, their separation has grown by at least this share of its growth over the whole run (strokes
@@ -208,7 +218,8 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
     they are linked only when no farther apart than JUNCTION_SPREAD times the imprecision there:
     the largest gap of A and B (the distance between the stroke points a candidate joins) and,
     when A and B both join other strokes, of any candidate of j and k within delta of A or B (the
-    third pair of a junction of three strokes drawn loosely). A closed profile crossed exactly by
+    third pair of a junction of three strokes drawn loosely), or when A, B and that third
+    candidate, pairwise within delta, all lie in the middles of their strokes (MIDDLE_REACH). A closed profile crossed exactly by
     eight curves 0.9 delta apart keeps eight nodes; three strokes drawn through one place, each
     missing the others by up to g, make one."""
     n = len(cands.points)
@@ -223,6 +234,14 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
         for i in strokes_c:
             on_stroke.setdefault(i, []).append(c)
 
+    # how far each candidate lies from the nearest end of the strokes it joins (arc length)
+    ends: dict = {}
+    inner = []
+    for att in cands.attach:
+        for i, _ in att:
+            if i not in ends:
+                ends[i] = float(cumulative_length(strokes[i])[-1])
+        inner.append(min(min(s, ends[i] - s) for i, s in att))
     parent = list(range(n))
 
     def find(x: int) -> int:
@@ -239,11 +258,14 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
         others_a, others_b = sets[a] - shared, sets[b] - shared
         if shared and (others_a or others_b):
             spread = max(gap[a], gap[b])
+            crossing = False
             if others_a and others_b:
                 for c in {c for j in others_a for c in on_stroke[j]}:
                     if sets[c] & others_b and (d[c, a] <= delta or d[c, b] <= delta):
                         spread = max(spread, gap[c])
-            if d[a, b] > JUNCTION_SPREAD * spread:
+                        crossing |= d[c, a] <= delta and d[c, b] <= delta and all(
+                            inner[x] > MIDDLE_REACH * delta for x in (a, b, c))
+            if d[a, b] > JUNCTION_SPREAD * spread and not crossing:
                 continue
         parent[root_a] = root_b
     return [find(k) for k in range(n)]

@@ -208,6 +208,27 @@ def test_loosely_drawn_junction_is_one_node():
     assert np.linalg.norm(centre.point) < 0.3 * d and g.degree(centre.id) == 6
 
 
+def test_three_strokes_crossing_in_their_middles_within_delta_are_one_junction():
+    """Three straight strokes crossing one another exactly, pairwise, in a triangle 0.7 delta wide
+    in their middles (a clean sketch, the strokes missing one point: sketchgen's dome_flat_9 of
+    seed base 17000): one junction (core.stroke_nodes.MIDDLE_REACH), not three nodes and a sliver
+    loop; the same triangle at the strokes' ends (rulings converging towards a tip) keeps its
+    three places."""
+    d = 1.0
+    a, b, c = np.array([0.0, 0.0, 0.0]), np.array([0.7, 0.0, 0.0]), np.array([0.35, 0.6, 0.0])
+
+    def through(p, q, before, after):
+        u = (q - p) / np.linalg.norm(q - p)
+        return line(p - before * u, q + after * u, 81)
+
+    middles = [through(a, b, 15, 15), through(b, c, 15, 15), through(c, a, 15, 15)]
+    g = build_stroke_graph(middles, d)
+    crossings = [n for n in g.nodes if g.degree(n.id) > 2]
+    assert len(crossings) == 1 and g.degree(crossings[0].id) == 6
+    ends = [through(a, b, 0.5, 15), through(b, c, 0.5, 15), through(c, a, 0.5, 15)]
+    assert len([n for n in build_stroke_graph(ends, d).nodes if n.kind == "crossing"]) != 1
+
+
 def test_strokes_ending_together_and_parting_meet_at_an_apex():
     """Two strokes drawn from one point 8 degrees apart stay within delta of each other for 7 delta:
     they meet at a corner there and both are kept whole (core.stroke_nodes.apex_meeting), while a
