@@ -191,10 +191,11 @@ def object_summary(report: Mapping) -> str:
              f"(surfaces sewn at {report['tolerances']['surface_sew_mm']:.3g} mm)"]
     across = report.get("across_surfaces") or {}
     if across:
-        lines.append(f"G1 across surfaces: of {across['smooth_curves']} smooth shared curves {across['tangent_curves']} "
-                     f"tangent-continuous (normals within 1 deg; G0: {across['g0_tangent_curves']}), largest angle "
-                     f"between the surfaces' normals {across['angle_max_deg']:.2f} deg (G0: "
-                     f"{across['g0_angle_max_deg']:.2f} deg); {across['sharp_curves']} drawn sharp, left G0")
+        lines.append(f"G1 across surfaces: of {across['smooth_sides']} surface sides along smooth shared curves "
+                     f"{across['tangent_sides']} tangent-continuous (normals within 1 deg; G0: "
+                     f"{across['g0_tangent_sides']}), largest angle between the surfaces' normals "
+                     f"{across['angle_max_deg']:.2f} deg (G0: {across['g0_angle_max_deg']:.2f} deg); "
+                     f"{across['sharp_sides']} along curves drawn sharp, left G0")
     lines += [f"  stroke {s['index']} unused: {s['reason']}" for s in report["strokes"] if not s["used"]]
     lines += [f"  loop of strokes {f['side_strokes']} made no surface: {f['reason']}" for f in report["failed_loops"]]
     lines.append("wrote " + ", ".join(report["outputs"].values()))

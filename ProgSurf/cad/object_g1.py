@@ -195,10 +195,10 @@ TANGENT_DEG = 1.0
 
 
 def across_angles(results: list, maps: list) -> dict:
-    """The angles (deg) between the two surfaces' normals along every shared curve that is smooth
-    in G0 (CHECK points, the other's normal turned to agree): the largest, how many such curves
-    stay within TANGENT_DEG, and how many curves of each kind (the G1 defect across surfaces: 0
-    where tangent-continuous). results: the built ShellResults (their faces: G0 or G1), maps:
+    """The angles (deg) between the two surfaces' normals along every side of a face on a shared
+    curve that is smooth in G0 (CHECK points, the other's normal turned to agree): the largest, how
+    many such sides stay within TANGENT_DEG, and how many sides of each kind (a shared piece counts
+    once from each of its surfaces; the G1 defect across surfaces: 0 where tangent-continuous). results: the built ShellResults (their faces: G0 or G1), maps:
     across_maps of their G0 faces."""
     worst, smooth, sharp, tangent = 0.0, 0, 0, 0
     for res, found in zip(results, maps):
@@ -224,7 +224,7 @@ def across_angles(results: list, maps: list) -> dict:
                     top = float(angle.max()) if len(angle) else 0.0
                     worst = max(worst, top)
                     tangent += top <= TANGENT_DEG
-    return {"smooth_curves": smooth, "sharp_curves": sharp, "tangent_curves": tangent, "angle_max_deg": worst}
+    return {"smooth_sides": smooth, "sharp_sides": sharp, "tangent_sides": tangent, "angle_max_deg": worst}
 
 
 def _final(side: _Side, results: list):

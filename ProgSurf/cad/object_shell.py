@@ -45,11 +45,12 @@ class ObjectShell:
     face_owner : per face of `shape`, the index of the surface it belongs to
     tolerance  : the sewing tolerance between surfaces, mm
     timings_s  : "surfaces" (fitting every surface's faces), "sew"
-    across     : G1 with shared curves (cad.object_g1.across_angles): the curves two surfaces share
-                 that are smooth ("smooth_curves") or drawn sharp ("sharp_curves"), the largest
-                 angle between the two surfaces' normals along a smooth one and how many smooth ones
-                 keep them within TANGENT_DEG, G1 ("angle_max_deg", "tangent_curves") and G0
-                 ("g0_angle_max_deg", "g0_tangent_curves"); empty otherwise
+    across     : G1 with shared curves (cad.object_g1.across_angles): how many surface sides lie
+                 along a curve another surface shares that is smooth ("smooth_sides") or drawn sharp
+                 ("sharp_sides"; each shared piece counts once from each surface), the largest
+                 angle between the two surfaces' normals along a smooth one and how many smooth
+                 sides keep them within TANGENT_DEG, G1 ("angle_max_deg", "tangent_sides") and G0
+                 ("g0_angle_max_deg", "g0_tangent_sides"); empty otherwise
     """
 
     shape: object
@@ -140,7 +141,7 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
                  for r, b0, g, m in zip(results, g0, given, maps)]
         across = across_angles(built, maps)
         before = across_angles(g0, maps)
-        across.update({"g0_angle_max_deg": before["angle_max_deg"], "g0_tangent_curves": before["tangent_curves"]})
+        across.update({"g0_angle_max_deg": before["angle_max_deg"], "g0_tangent_sides": before["tangent_sides"]})
     built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity, given=g)
              for r, b, g in zip(results, built, given)]
     t_surfaces = time.perf_counter() - clock

@@ -212,7 +212,8 @@ def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache]
 
 def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
     """edge id -> its points cut from the faired stroke (arc lengths scaled from the filtered
-    stroke's), ends replaced by its nodes' points on the faired strokes (faired_nodes) exactly."""
+    stroke's), ends replaced by its nodes' points on the faired strokes (faired_nodes) exactly, and
+    no stroke point left within half the stroke's median chord of them."""
     nodes = faired_nodes(graph, faired)
     out = {}
     for e in graph.edges:
@@ -220,6 +221,14 @@ def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
         scale = chord_length(src) / max(chord_length(graph.strokes[e.stroke]), 1e-300)
         cum = cumulative_length(src)
         inner = src[(cum > e.s0 * scale) & (cum < e.s1 * scale)]
+        if len(inner) and len(cum) > 1:
+            # no stroke point within half a chord of a node: the node lies beside the stroke (the
+            # mean of the strokes crossing there), and a stroke point just past it made a first
+            # chord of 0.002-0.02 mm at about 90 deg, a lip along the whole edge of the faces
+            # (a crease of 70-90 deg on the edge itself where the strokes are smooth)
+            h = 0.5 * float(np.median(np.diff(cum)))
+            inner = inner[(np.linalg.norm(inner - nodes[e.node0], axis=1) > h)
+                          & (np.linalg.norm(inner - nodes[e.node1], axis=1) > h)]
         pts = np.vstack([nodes[e.node0], inner, nodes[e.node1]])
         if len(pts) == 2:
             pts = point_at_length(pts, np.linspace(0.0, chord_length(pts), 3))

@@ -35,6 +35,13 @@ within delta gives them; at 1.5 and 2, 02-0-2 gains 3 edges and a loop, at 1 10-
 strokes on loops; the noisy TiGL fuselage's nose keeps its profile's crossings apart up to 4
 (the wrong junctions there span 4.35 to 4.68 times their largest gap) and opens at 5."""
 
+SPREAD_FLOOR = 0.05
+"""The imprecision merge_candidates allows a place at least: this share of delta. Strokes that
+cross exactly (gaps of 0) still cross at points a chord's sag apart where they are curved and
+sampled: three curved spokes drawn exactly through one point, overshooting it, left three nodes
+5e-4 delta apart and a sliver surface between them. (The noisy fuselage's nose places it keeps
+apart lie 0.6-0.95 delta from one another, far beyond JUNCTION_SPREAD times this.)"""
+
 MIDDLE_REACH = 2.0
 """Three strokes that cross one another pairwise within delta, each crossing farther than this
 many delta from the ends of its strokes, are one junction drawn through one place however
@@ -257,7 +264,7 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
         shared = sets[a] & sets[b]
         others_a, others_b = sets[a] - shared, sets[b] - shared
         if shared and (others_a or others_b):
-            spread = max(gap[a], gap[b])
+            spread = max(gap[a], gap[b], SPREAD_FLOOR * delta)
             crossing = False
             if others_a and others_b:
                 for c in {c for j in others_a for c in on_stroke[j]}:

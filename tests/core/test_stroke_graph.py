@@ -229,6 +229,25 @@ def test_three_strokes_crossing_in_their_middles_within_delta_are_one_junction()
     assert len([n for n in build_stroke_graph(ends, d).nodes if n.kind == "crossing"]) != 1
 
 
+def test_curved_strokes_drawn_exactly_through_one_point_are_one_node():
+    """Three curved spokes drawn exactly through one point, overshooting it by 1.5 delta (the
+    crossings near their ends, where MIDDLE_REACH does not apply): sampled as polylines they cross
+    at points a chord's sag apart, with gaps of 0. One node, no sliver loop between three
+    (core.stroke_nodes.SPREAD_FLOOR; without it three nodes 5e-4 delta apart and one loop)."""
+    from ProgSurf.core.stroke_cycles import find_cycles
+
+    t = np.linspace(-1.5, 10, 40)
+    spokes = []
+    for k in range(3):
+        a = 2 * np.pi * k / 3
+        d, n = np.array([np.cos(a), np.sin(a), 0.0]), np.array([-np.sin(a), np.cos(a), 0.0])
+        spokes.append(t[:, None] * d + (0.02 * t * (10 - t))[:, None] * n)
+    g = build_stroke_graph(spokes, 1.0)
+    hubs = [n for n in g.nodes if g.degree(n.id) > 2]
+    assert len(hubs) == 1 and np.linalg.norm(hubs[0].point) < 0.05
+    assert len(find_cycles(g).cycles) == 0
+
+
 def test_strokes_ending_together_and_parting_meet_at_an_apex():
     """Two strokes drawn from one point 8 degrees apart stay within delta of each other for 7 delta:
     they meet at a corner there and both are kept whole (core.stroke_nodes.apex_meeting), while a
