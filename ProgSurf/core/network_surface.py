@@ -118,7 +118,9 @@ class NetworkSurface:
                            s0: FloatArray, s1: FloatArray, r0: FloatArray, r1: FloatArray) -> tuple[FloatArray, FloatArray]:
         """The central differences (P(s1, r) - P(s0, r)) / (s1 - s0) and (P(s, r1) - P(s, r0)) /
         (r1 - r0), (k, 3) each, of the sub-patches P of regions rids[which] (k,) (the fold checks'
-        normals; s0 < s1 about s and r0 < r1 about r), written out from Eq. 1:
+        normals; s0 < s1 about s and r0 < r1 about r, each a function of s or r alone, as
+        clip01(s -+ step) is: samples of one region with one s share one evaluation of its s0, s1),
+        written out from Eq. 1:
 
             dP/ds = q(s0, s1) [(p(0,r) - p(1,r)) - f1(r) (p00 - p10) - f2(r) (p01 - p11)]
                     + [f1(r) (p(s1,0) - p(s0,0)) + f2(r) (p(s1,1) - p(s0,1))] / (s1 - s0)

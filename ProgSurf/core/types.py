@@ -107,11 +107,13 @@ def evaluate_polylines(jobs: Sequence[tuple["Polyline", FloatArray]]) -> FloatAr
     (the same values as one by one): long jobs one by one, many short ones through one search
     (evaluate_polyline_rows)."""
     jobs = [(poly, np.asarray(t, dtype=float).reshape(-1)) for poly, t in jobs]
+    if not jobs:
+        return np.zeros((0, 3))
     sizes = [len(t) for _, t in jobs]
     if sum(sizes) >= 256 * len(jobs):
         return np.concatenate([poly.evaluate(t) for poly, t in jobs]).reshape(-1, 3)
     return evaluate_polyline_rows([poly for poly, _ in jobs], np.repeat(np.arange(len(jobs)), sizes),
-                                  np.concatenate([t for _, t in jobs]) if jobs else np.zeros(0))
+                                  np.concatenate([t for _, t in jobs]))
 
 
 def evaluate_polyline_rows(polys: Sequence["Polyline"], rows: np.ndarray, t: FloatArray) -> FloatArray:
