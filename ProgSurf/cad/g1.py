@@ -223,7 +223,7 @@ class _Seams:
         # boundary edges that another surface of the object continues smoothly (cad.object_g1):
         # seams whose second face is that surface's
         self.across = {e: a for e, a in (across or {}).items()
-                       if len(self.uses.get(e, ())) == 1 and e not in sharp and a.smooth(*self.uses[e][0])}
+                       if len(self.uses.get(e, ())) == 1 and e not in sharp and a.smooth_here}
         self.seam |= set(self.across)
         corner_normals: dict = {}
         for f in infos:

@@ -100,6 +100,11 @@ class Across:
         self._index = np.concatenate([np.arange(len(s.points)) for s in sides])
         self._count = np.array([len(s.points) for s in sides])
         self._w = np.concatenate([s.w for s in sides])
+        self.partners: set = set()
+        """(surface, boundary edge id) of the other surface's sides along this edge (across_maps)."""
+        self.smooth_here = False
+        """Whether the two surfaces continue each other along this edge, decided alike on both sides
+        (across_maps; smooth() seen from this side alone)."""
 
     def _locate(self, points: FloatArray) -> tuple[np.ndarray, FloatArray, np.ndarray]:
         """(side index (m,), its side parameter (m,), (m,) True where within reach) of points (m, 3):
@@ -186,7 +191,20 @@ def across_maps(results: list, networks: list, reach: float) -> list[dict]:
         if not len(others) or not np.all(reached.sum(axis=0) == 1):
             continue
         along = {n for n, hit in zip(others, reached) if hit.any()}
-        out[mine.surface][p.edge_id] = Across([sides[i] for i in near if sides[i].surface in along], reach)
+        found = out[mine.surface][p.edge_id] = Across([sides[i] for i in near if sides[i].surface in along], reach)
+        owner, _, ok = found._locate(q)
+        found.partners = {(found.sides[o].surface, found.sides[o].piece.edge_id) for o in owner[ok]}
+        found.smooth_here = found.smooth(mine.info, mine.k, p)
+    # one decision for both sides of a shared piece: smooth where every side along it, seen from
+    # its own face, finds the surfaces continuing each other (a side judged on a longer piece can
+    # part where a shorter one across it does not; G1 on one side only would meet no aim)
+    changed = True
+    while changed:
+        changed = False
+        for n, found_n in enumerate(out):
+            for a in found_n.values():
+                if a.smooth_here and not all(out[m][e].smooth_here if e in out[m] else False for m, e in a.partners):
+                    a.smooth_here, changed = False, True
     return out
 
 
@@ -209,7 +227,7 @@ def across_angles(results: list, maps: list) -> dict:
                     a = found.get(p.edge_id)
                     if a is None:
                         continue
-                    if not a.smooth(info, k, p):
+                    if not a.smooth_here:
                         sharp += 1
                         continue
                     smooth += 1

@@ -279,8 +279,27 @@ def test_g1_across_surfaces_turns_their_normals_together_within_the_bound():
     assert len(faces) == 4 and max(f.offset_mm for f in faces) <= bound * (1 + 1e-9)
     assert g1.shells[0]["seam_gap_max_mm"] <= g1.model.tolerance and g1.problems == []
 
-    tee = build_object_and_measure(strokes + [np.c_[line([0, 0.75], [1.5, 0.75], 30), paraboloid(
-        np.linspace(0, 1.5, 30), np.full(30, 0.75))]], continuity="G1")
+    from ProgSurf.cad import object_shell
+
+    seen = []
+
+    def keep_maps(*args):
+        seen.append(across_maps(*args))
+        return seen[-1]
+
+    across_maps = object_shell.across_maps
+    object_shell.across_maps = keep_maps
+    try:
+        tee = build_object_and_measure(strokes + [np.c_[line([0, 0.75], [1.5, 0.75], 30), paraboloid(
+            np.linspace(0, 1.5, 30), np.full(30, 0.75))]], continuity="G1")
+    finally:
+        object_shell.across_maps = across_maps
+    # both sides of a shared piece are decided alike: a side is smooth only with its partners
+    maps = seen[-1]
+    for found in maps:
+        for a in found.values():
+            assert a.partners and all((e in maps[m]) and maps[m][e].smooth_here == a.smooth_here
+                                      for m, e in a.partners) or not a.smooth_here
     assert len(tee.build.surfaces) == 5
     assert tee.model.across["smooth_sides"] == 11 and tee.model.across["tangent_sides"] == 11
     assert tee.model.across["g0_tangent_sides"] == 0
