@@ -18,6 +18,7 @@ oriented alike and an inverted neighbour reads near 180 deg.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Iterable, Optional, Sequence
 
 import numpy as np
@@ -138,6 +139,7 @@ def tuck_deg(normals: FloatArray, ok: np.ndarray, points: FloatArray, reach: flo
     return float(np.degrees(np.arccos(min(max(float(cos.min()), -1.0), 1.0))))
 
 
+@lru_cache(maxsize=8)
 def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
     """Local (s, r) over a region, (2*n*n,) each: an n x n grid from side to side, and the n x n
     grid FACE_INSET in from the sides where the built face's check samples
@@ -150,7 +152,10 @@ def _face_samples(n: int = FACE_SAMPLES) -> tuple[FloatArray, FloatArray]:
     for lo in (0.0, FACE_INSET):
         g = np.linspace(lo, 1.0 - lo, n)
         out.append([a.ravel() for a in np.meshgrid(g, g, indexing="ij")])
-    return np.concatenate([out[0][0], out[1][0]]), np.concatenate([out[0][1], out[1][1]])
+    s, r = np.concatenate([out[0][0], out[1][0]]), np.concatenate([out[0][1], out[1][1]])
+    s.setflags(write=False)           # made once (lru_cache), shared by every fold check
+    r.setflags(write=False)
+    return s, r
 
 
 def face_turn_deg(net, rid: int, n: int = FACE_SAMPLES) -> float:
@@ -211,8 +216,8 @@ def seam_local(net, jobs: Sequence[tuple[int, object, FloatArray]]) -> list[tupl
     a, d = a[rows, pick], d[rows, pick]                                           # (J, 2)
     uv = np.array([np.asarray(p, dtype=float).reshape(-1, 2) for _, _, p in jobs])  # (J, k, 2)
     f = clip01(np.einsum("jkc,jc->jk", uv - a[:, None, :], d) / np.einsum("jc,jc->j", d, d)[:, None])
-    fixed = np.where(np.isin(pick, (0, 3)), 0.0, 1.0)[:, None] * np.ones_like(f)
-    along_s = np.isin(pick, (0, 2))[:, None]
+    fixed = np.where((pick == 0) | (pick == 3), 0.0, 1.0)[:, None]                  # (J, 1)
+    along_s = ((pick == 0) | (pick == 2))[:, None]
     s_out, r_out = np.where(along_s, f, fixed), np.where(along_s, fixed, f)
     return list(zip(s_out, r_out))
 
