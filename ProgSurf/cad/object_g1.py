@@ -25,6 +25,7 @@ from ..core.bspline_surface import unit_normals
 from ..core.continuity import KINK_ANGLE_DEG
 from ..core.network import OUTER_CURVES
 from ..core.types import FloatArray
+from .g1 import _side_points
 
 SHARP_DEG = KINK_ANGLE_DEG
 """Two surfaces leaving a shared curve more than this from opposite directions meet at a sharp
@@ -34,12 +35,6 @@ SIDE_SAMPLES = 129
 CHECK = np.linspace(0.05, 0.95, 19)
 """Edge parameters at which a shared curve is tested for a sharp angle and measured (ends left out:
 three or more surfaces meet there)."""
-
-
-def _side_points(k: int, w: FloatArray) -> tuple[FloatArray, FloatArray]:
-    from .g1 import _side_points as points
-
-    return points(k, w)
 
 
 def _inward(k: int, ds: FloatArray, dr: FloatArray) -> FloatArray:
@@ -126,24 +121,23 @@ class Across:
             w = np.where(better, self._w[near] + x * (self._w[other] - self._w[near]), w)
         return owner, w, best <= self.reach
 
-    def _frames(self, points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
-        """(normals, inward derivatives, tangents along the side, defined), each (m, 3) / (m,)."""
+    def _frames(self, points: FloatArray) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """(normals, inward derivatives, defined), each (m, 3) / (m,)."""
         owner, w, ok = self._locate(points)
         m = len(w)
-        normals, inward, tangent = np.zeros((m, 3)), np.zeros((m, 3)), np.zeros((m, 3))
+        normals, inward = np.zeros((m, 3)), np.zeros((m, 3))
         for o in np.unique(owner):
             rows = np.flatnonzero(owner == o)
             side = self.sides[o]
             _, ds, dr = side.evaluate(w[rows])
             n, n_ok = unit_normals(ds, dr)
             normals[rows], inward[rows] = n, _inward(side.k, ds, dr)
-            tangent[rows] = ds if side.k in (0, 2) else dr
             ok[rows] &= n_ok
-        return normals, inward, tangent, ok
+        return normals, inward, ok
 
     def normals(self, points: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """The other surface's unit normals (m, 3) at points (m, 3) of the curve, (m,) where defined."""
-        normals, _, _, ok = self._frames(points)
+        normals, _, ok = self._frames(points)
         return normals, ok
 
     def angle_deg(self, info, k: int, piece) -> FloatArray:
@@ -154,7 +148,7 @@ class Across:
         points, ds, dr = info.derived.derivatives.evaluate(*_side_points(k, w))
         tangent = ds if k in (0, 2) else dr
         mine, ok_a = _across_curve(_inward(k, ds, dr), tangent)
-        _, inward, _, ok = self._frames(points)
+        _, inward, ok = self._frames(points)
         other, ok_b = _across_curve(inward, tangent)
         cos = np.clip(-np.einsum("ij,ij->i", mine, other), -1.0, 1.0)
         return np.where(ok & ok_a & ok_b, np.degrees(np.arccos(cos)), np.nan)
@@ -216,11 +210,11 @@ def across_angles(results: list, maps: list) -> dict:
     """The angles (deg) between the two surfaces' normals along every side of a face on a shared
     curve that is smooth in G0 (CHECK points, the other's normal turned to agree): the largest, how
     many such sides stay within TANGENT_DEG, and how many sides of each kind (a shared piece counts
-    once from each of its surfaces; the G1 defect across surfaces: 0 where tangent-continuous). results: the built ShellResults (their faces: G0 or G1), maps:
-    across_maps of their G0 faces."""
+    once from each of its surfaces; the G1 defect across surfaces: 0 where tangent-continuous).
+    results: the built ShellResults (their faces: G0 or G1), maps: across_maps of their G0 faces."""
     worst, smooth, sharp, tangent = 0.0, 0, 0, 0
-    for res, found in zip(results, maps):
-        final = {info.region_id: info for info in res.faces}
+    finals = [{info.region_id: info for info in res.faces} for res in results]
+    for res, final, found in zip(results, finals, maps):
         for info in res.g0_faces or res.faces:
             for k, pieces in enumerate(info.sides):
                 for p in pieces:
@@ -234,7 +228,8 @@ def across_angles(results: list, maps: list) -> dict:
                     w = p.a + CHECK * (p.b - p.a)
                     points, ds, dr = final[info.region_id].derived.derivatives.evaluate(*_side_points(k, w))
                     na, ok_a = unit_normals(ds, dr)
-                    other = Across([_Side(s.surface, _final(s, results), s.k, s.piece, s.w, s.points)
+                    # the other surface's built faces, at the places of its G0 faces' samples
+                    other = Across([_Side(s.surface, finals[s.surface][s.info.region_id], s.k, s.piece, s.w, s.points)
                                     for s in a.sides], a.reach)
                     nb, ok_b = other.normals(points)
                     ok = ok_a & ok_b
@@ -244,10 +239,3 @@ def across_angles(results: list, maps: list) -> dict:
                     tangent += top <= TANGENT_DEG
     return {"smooth_sides": smooth, "sharp_sides": sharp, "tangent_sides": tangent, "angle_max_deg": worst}
 
-
-def _final(side: _Side, results: list):
-    """The built face (G0 or G1) of the G0 face a side sample belongs to."""
-    for info in results[side.surface].faces:
-        if info.region_id == side.info.region_id:
-            return info
-    return side.info
