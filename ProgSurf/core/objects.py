@@ -214,12 +214,12 @@ def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
     """edge id -> its points cut from the faired stroke (arc lengths scaled from the filtered
     stroke's), ends replaced by its nodes' points on the faired strokes (faired_nodes) exactly, and
     no stroke point left within half the stroke's median chord of them."""
-    nodes = faired_nodes(graph, faired)
+    arcs = _stroke_arcs(graph, faired)
+    nodes = faired_nodes(graph, faired, arcs)
     out = {}
     for e in graph.edges:
         src = faired[e.stroke]
-        scale = chord_length(src) / max(chord_length(graph.strokes[e.stroke]), 1e-300)
-        cum = cumulative_length(src)
+        scale, cum = arcs[e.stroke]
         inner = src[(cum > e.s0 * scale) & (cum < e.s1 * scale)]
         if len(inner) and len(cum) > 1:
             # no stroke point within half a chord of a node: the node lies beside the stroke (the
@@ -236,7 +236,17 @@ def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
     return out
 
 
-def faired_nodes(graph: StrokeGraph, faired: list) -> dict:
+def _stroke_arcs(graph: StrokeGraph, faired: list) -> dict:
+    """stroke index -> (the faired stroke's length over the filtered one's, by which the graph's arc
+    lengths are scaled onto it; its cumulative_length), once per stroke that has an edge."""
+    out = {}
+    for i in {e.stroke for e in graph.edges}:
+        src = faired[i]
+        out[i] = (chord_length(src) / max(chord_length(graph.strokes[i]), 1e-300), cumulative_length(src))
+    return out
+
+
+def faired_nodes(graph: StrokeGraph, faired: list, arcs: Optional[dict] = None) -> dict:
     """node id -> (3,) its point on the faired strokes: the mean of the faired strokes' points at the
     places its edges end (each stroke and arc length once; arc lengths scaled as in
     edge_polylines), as the graph's node is the mean of the filtered strokes' points there.
@@ -245,12 +255,13 @@ def faired_nodes(graph: StrokeGraph, faired: list) -> dict:
     node jumped that far in its first segment; on a piece a few times as long (a small profile
     between two crossings: 26 mm with jumps of up to 2.9 mm on the TiGL helibody's boom) that was a
     kink its curve fit could not follow. Two strokes crossing now meet at the middle of their
-    faired points, each edge's jump half their separation there."""
+    faired points, each edge's jump half their separation there. arcs: _stroke_arcs, when the
+    caller has them."""
+    arcs = _stroke_arcs(graph, faired) if arcs is None else arcs
     on: dict = {}
     for e in graph.edges:
         src = faired[e.stroke]
-        scale = chord_length(src) / max(chord_length(graph.strokes[e.stroke]), 1e-300)
-        cum = cumulative_length(src)
+        scale, cum = arcs[e.stroke]
         for node, s in ((e.node0, e.s0), (e.node1, e.s1)):
             on.setdefault(node, {}).setdefault((e.stroke, s), point_at_length(src, s * scale, cum))
     return {node: np.mean(list(points.values()), axis=0) for node, points in on.items()}
