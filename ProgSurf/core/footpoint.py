@@ -161,6 +161,12 @@ def footpoint(q: FloatArray, facets: Facets, slack: float = 0.0, near_uv: FloatA
     found = real_footpoint(q, facets, slack, near_uv)
     if found is not None:
         return found
+    return nearest_on_mesh(q, facets)
+
+
+def nearest_on_mesh(q: FloatArray, facets: Facets) -> Footpoint:
+    """The nearest point of the facets to q (3,), for a q that has no real footpoint: inside=False
+    when it lies on the outer boundary of the surface (the boundary of the unit square)."""
     tri = facets.xyz
     w, dist = _closest_on_triangles(q, tri)
     k = int(np.argmin(dist))

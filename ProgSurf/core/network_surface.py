@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .coons import CoonsPatch, coons_blend, f1
-from .footpoint import Facets, Footpoint, footpoint, prepare, real_footpoint
+from .footpoint import Facets, Footpoint, _closest_on_triangles, footpoint, nearest_on_mesh, prepare, real_footpoint
 from .network_views import pruned
 from .preimage import bilinear, cross2, inverse_bilinear_sets
 from .types import FloatArray, Polyline, evaluate_polyline_rows, evaluate_polylines
@@ -334,7 +334,16 @@ class NetworkSurface:
             if not set(reach.tolist()) <= set(near.tolist()):
                 found = real_footpoint(q, _join_parts([parts[i] for i in reach]), slack, near_uv)
             return found
-        return footpoint(q, self.facets(), slack, near_uv)
+        found = real_footpoint(q, self.facets(), slack, near_uv)
+        if found is not None:
+            return found
+        # the nearest point of the mesh: among the regions whose box is no further than the
+        # nearest point of the near ones (the same point as over every facet, found first in the
+        # same order: a facet at that least distance lies in a region whose box is no further)
+        _, dist = _closest_on_triangles(q, _join_parts([parts[i] for i in near]).xyz)
+        margin = 1e-11 * (float(np.abs(q).max()) + float(dist.min()))
+        reach = np.flatnonzero(gap <= float(dist.min()) + margin)
+        return nearest_on_mesh(q, _join_parts([parts[i] for i in reach]))
 
     def _boxes(self, parts: list) -> FloatArray:
         """(R, 2, 3) bounding boxes (min, max) of the regions' facets, kept while the parts are."""

@@ -85,31 +85,33 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
     falloff: "linear" (the paper's even distribution) or "smooth" (cubic) for the end offsets
     """
     snap_state = net.snapshot()
+    before = net.clone()        # the surface before the stroke, read (never changed) by both tries
     pts = np.array(stroke, dtype=float)
-    rec, misses = _add_once(net, pts, index, tol, snap, falloff, snap_state)
+    rec, misses = _add_once(net, before, pts, index, tol, snap, falloff, snap_state)
     misses = as_drawn(pts, misses, snap) if len(pts) >= 2 else []
     if not may_be_off(misses, snap):
         return rec
     # drawn off the surface? (core.off_surface): the misses along the surface's normals before it
-    first = net.snapshot()
-    net.restore(snap_state)
-    normals = normals_at(net, [q - m for q, m in misses])
+    normals = normals_at(before, [q - m for q, m in misses])
     off = drawn_off(misses, normals, snap)
     if off is not None:
         # moved onto the strokes it crosses and added again; when that fails, the stroke as
         # drawn keeps what it did
-        again, _ = _add_once(net, onto_crossings(pts, misses, normals), index, tol, snap, falloff, snap_state)
+        first = net.snapshot()
+        net.restore(snap_state)
+        again, _ = _add_once(net, before, onto_crossings(pts, misses, normals), index, tol, snap, falloff,
+                             snap_state)
         if again.status == "accepted":
             return replace(again, reason=again.reason + "; " + off_surface.note(len(misses), off))
-    net.restore(first)
+        net.restore(first)
     return rec
 
 
-def _add_once(net: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances, snap: float, falloff: str,
-              snap_state: tuple) -> tuple[StrokeRecord, list]:
+def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances, snap: float,
+              falloff: str, snap_state: tuple) -> tuple[StrokeRecord, list]:
     """add_stroke as the paper has it (later strokes win): the record, and the stroke's misses of the
-    earlier stroke curves it crossed (those found before a rejection, when it is rejected)."""
-    old = net.clone()
+    earlier stroke curves it crossed (those found before a rejection, when it is rejected).
+    old: a clone of net as it is now (snap_state), read only."""
     net.take_log()
     work = _Work()
     try:
