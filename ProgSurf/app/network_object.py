@@ -49,6 +49,8 @@ RESULTS = (
     ("App::PropertyFloat", "FitDeviation", "Largest distance of a surface from its Coons sub-patches (mm)"),
     ("App::PropertyString", "LastError", "Why the last recompute failed (empty when it worked)"),
     ("App::PropertyString", "Quality", "The last build's quality checks: 'quality: ok' or a warning"),
+    ("App::PropertyStringList", "SurfaceQuality",
+     "Per surface: what its quality checks found (folds inside it, creases with other surfaces); empty if none"),
 )
 
 
@@ -169,6 +171,7 @@ def write_results(obj, outcome) -> None:
     obj.SeamGap = max((s["seam_gap_max_mm"] for s in outcome.shells), default=0.0)
     obj.FitDeviation = max(outcome.fit_deviation_mm, default=0.0)
     obj.Quality = outcome.verdict()
+    obj.SurfaceQuality = outcome.surface_problems()
     obj.LastError = ""
 
 

@@ -36,6 +36,8 @@ class ObjectOutcome:
     fit_allowance_mm : per surface, how far the face that is furthest over (or nearest to) its
                allowance may lie from its sub-patch: the single surface's rule
                (cad.analysis.fit_allowance: the fit tolerance plus its sides' chord sag)
+    folds : per surface, cad.analysis.folds of its built faces (the single surface's check: seams
+               creased, faces turned over); folds between surfaces are model.folds_across
     shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
     timings_s : seconds per step
     """
@@ -46,6 +48,7 @@ class ObjectOutcome:
     fit_allowance_mm: tuple
     shells: tuple
     timings_s: dict = field(default_factory=dict)
+    folds: tuple = ()
 
     @property
     def shape(self):
@@ -71,7 +74,39 @@ class ObjectOutcome:
             k = max(over, key=lambda i: np.nan_to_num(self.fit_deviation_mm[i] / allowed[i], nan=np.inf))
             out.append(f"{len(over)} surface(s) lie further from their Coons patches than their fit allowance "
                        f"(surface {k}: {self.fit_deviation_mm[k]:.3g} mm, allowed {allowed[k]:.3g} mm)")
+        inside = [(k, f) for k, found in enumerate(self.folds) for f in found]
+        if inside:
+            k, worst = max(inside, key=lambda kf: kf[1].angle_deg)
+            out.append(f"{len(inside)} fold(s) inside surfaces (surface {k}: {worst.describe()})")
+        across = self.model.folds_across
+        if across:
+            worst = max(across, key=lambda f: f["angle_deg"] - f["ends_deg"])
+            a, b = worst["surfaces"]
+            out.append(f"{len(across)} crease(s) between surfaces that the strokes do not draw (surfaces {a} and {b} "
+                       f"along stroke(s) {self.shared_strokes(a, b)}: {worst['angle_deg']:.0f} deg, where the strokes "
+                       f"at its ends make them meet at {worst['ends_deg']:.0f} deg)")
         return out
+
+    def surface_problems(self) -> list:
+        """Per surface, what its checks found, one phrase (empty when none): folds inside it, creases
+        with other surfaces along the curves it shares with them (model.folds_across)."""
+        out = [[] for _ in self.build.surfaces]
+        for k, found in enumerate(self.folds):
+            if found:
+                worst = max(found, key=lambda f: f.angle_deg)
+                out[k].append(f"{len(found)} fold(s): {worst.describe()}")
+        for f in self.model.folds_across:
+            a, b = f["surfaces"]
+            for me, other in ((a, b), (b, a)):
+                out[me].append(f"a crease of {f['angle_deg']:.0f} deg with surface {other} along stroke(s) "
+                               f"{self.shared_strokes(a, b)}")
+        return ["; ".join(x) for x in out]
+
+    def shared_strokes(self, a: int, b: int) -> list:
+        """The input strokes along which surfaces a and b meet (the graph edges both cycles hold)."""
+        edges = self.build.graph.edges
+        both = set(self.build.surfaces[a].sides) & set(self.build.surfaces[b].sides)
+        return sorted({edges[e].stroke for e in both})
 
     def verdict(self) -> str:
         problems = self.problems
@@ -112,9 +147,10 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
     clock = time.perf_counter()
     measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)
                 for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces)]
+    folds = [k[2] if k else tuple(cad_analysis.folds(shell_result)) for k, shell_result in zip(kept, model.surfaces)]
     if cache is not None:
-        for key, shell_result, fit in zip(keys, model.surfaces, measured):
-            cache.store("cad surface", key, (shell_result, fit))
+        for key, shell_result, fit, found in zip(keys, model.surfaces, measured, folds):
+            cache.store("cad surface", key, (shell_result, fit, found))
     shells = []
     for s in model.shells:
         info = cad_analysis.shell_seam_gaps(s)
@@ -122,7 +158,7 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
         shells.append(info)
     timings["analysis"] = time.perf_counter() - clock
     return ObjectOutcome(build, model, tuple(d for d, _ in measured), tuple(a for _, a in measured),
-                         tuple(shells), timings)
+                         tuple(shells), timings, tuple(folds))
 
 
 def _fit_and_allowance(shell_result, network, fit_mm: float) -> tuple[float, float]:
@@ -153,7 +189,9 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "side_strokes": [graph.edges[e].stroke for e in surf.sides],
             "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
-            "fit_allowance_mm": outcome.fit_allowance_mm[k]})
+            "fit_allowance_mm": outcome.fit_allowance_mm[k],
+            "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions), "edge": f.edge}
+                      for f in (outcome.folds[k] if outcome.folds else ())]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}
                for r in build.roles]
@@ -173,6 +211,8 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
                          for c, r in build.failed],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
         "across_surfaces": dict(outcome.model.across),
+        "folds_across_surfaces": [dict(f, surfaces=list(f["surfaces"]), strokes=outcome.shared_strokes(*f["surfaces"]))
+                                  for f in outcome.model.folds_across],
         "strokes": strokes,
         "strokes_used": sum(r.used for r in build.roles),
         "quality": {"ok": not outcome.problems, "verdict": outcome.verdict()},

@@ -140,11 +140,11 @@ class Across:
         normals, _, ok = self._frames(points)
         return normals, ok
 
-    def angle_deg(self, info, k: int, piece) -> FloatArray:
-        """At CHECK along the piece of side k of face info: how far (deg) the two surfaces leave
-        the curve from opposite directions (0: one smooth surface; 90: a box's edge); NaN where
-        either is undefined."""
-        w = piece.a + ((1.0 - CHECK) if piece.reversed else CHECK) * (piece.b - piece.a)
+    def angle_deg(self, info, k: int, piece, at: FloatArray = CHECK) -> FloatArray:
+        """At `at` (default CHECK) along the piece of side k of face info: how far (deg) the two
+        surfaces leave the curve from opposite directions (0: one smooth surface; 90: a box's edge;
+        180: they leave it alike, one folded onto the other); NaN where either is undefined."""
+        w = piece.a + ((1.0 - at) if piece.reversed else at) * (piece.b - piece.a)
         points, ds, dr = info.derived.derivatives.evaluate(*_side_points(k, w))
         tangent = ds if k in (0, 2) else dr
         mine, ok_a = _across_curve(_inward(k, ds, dr), tangent)
@@ -199,6 +199,42 @@ def across_maps(results: list, networks: list, reach: float) -> list[dict]:
             for a in found_n.values():
                 if a.smooth_here and not all(out[m][e].smooth_here if e in out[m] else False for m, e in a.partners):
                     a.smooth_here, changed = False, True
+    return out
+
+
+END_CHECK = np.array([0.02, 0.98])
+"""Edge parameters next to a piece's ends. There each face leaves the shared curve along the side
+that meets it there (a Coons patch's derivative across a side at a corner is the tangent of the
+adjacent side): along the strokes drawn across the curve."""
+FOLD_RISE_DEG = 60.0
+"""A shared piece along which the two surfaces part, somewhere between its ends, by more than this
+beyond how they leave it at its ends folds one surface onto the other (a fin or a tuck nobody drew:
+issue 16's fold, two faces whose normals differ by more than 60 deg away from the ends where no
+sharp feature was drawn; what the strokes drew is how the surfaces leave the curve at its ends)."""
+
+
+def across_folds(results: list, maps: list) -> list[dict]:
+    """The folds across surfaces of G0 faces (results: ShellResults, maps: their across_maps): per
+    shared piece (once, from the surface with the lower index), {"surfaces": (a, b), "edge": boundary
+    edge id of a, "angle_deg": the largest angle between its ends, "ends_deg": the larger at its
+    ends}, where the first exceeds the second by more than FOLD_RISE_DEG."""
+    out = []
+    for n, (res, found) in enumerate(zip(results, maps)):
+        for info in res.g0_faces or res.faces:
+            for k, pieces in enumerate(info.sides):
+                for p in pieces:
+                    a = found.get(p.edge_id)
+                    if a is None or min(m for m, _ in a.partners or {(n, 0)}) < n:
+                        continue
+                    middle = a.angle_deg(info, k, p)
+                    if not np.isfinite(middle).any():
+                        continue
+                    ends = a.angle_deg(info, k, p, END_CHECK)
+                    top = float(np.nanmax(ends)) if np.isfinite(ends).any() else 0.0
+                    worst = float(np.nanmax(middle))
+                    if worst > top + FOLD_RISE_DEG:
+                        out.append({"surfaces": (n, min(m for m, _ in a.partners)), "edge": p.edge_id,
+                                    "angle_deg": worst, "ends_deg": top})
     return out
 
 

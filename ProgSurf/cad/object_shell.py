@@ -24,7 +24,7 @@ from ..core.strokes import sketch_diagonal
 from ..core.types import Tolerances
 from ._occ import Part
 from .g1 import OFFSET_FRACTION
-from .object_g1 import across_angles, across_maps
+from .object_g1 import across_angles, across_folds, across_maps
 from .shared_edges import graph_curves, outer_edges
 from .shell import build_shell
 
@@ -44,13 +44,16 @@ class ObjectShell:
     surfaces   : cad.shell.ShellResult per surface, in ObjectBuild.surfaces order
     face_owner : per face of `shape`, the index of the surface it belongs to
     tolerance  : the sewing tolerance between surfaces, mm
-    timings_s  : "surfaces" (fitting every surface's faces), "sew"
+    timings_s  : "surfaces" (fitting every surface's faces), "folds across" (looking for them), "sew"
     across     : G1 with shared curves (cad.object_g1.across_angles): how many surface sides lie
                  along a curve another surface shares that is smooth ("smooth_sides") or drawn sharp
                  ("sharp_sides"; each shared piece counts once from each surface), the largest
                  angle between the two surfaces' normals along a smooth one and how many smooth
                  sides keep them within TANGENT_DEG, G1 ("angle_max_deg", "tangent_sides") and G0
                  ("g0_angle_max_deg", "g0_tangent_sides"); empty otherwise
+    folds_across : with shared curves (loops), cad.object_g1.across_folds of the G0 faces: where two
+                 surfaces part along a curve they share by more than FOLD_RISE_DEG beyond how the
+                 strokes at its ends make them leave it (a crease, fin or tuck nobody drew)
     """
 
     shape: object
@@ -60,6 +63,7 @@ class ObjectShell:
     tolerance: float
     timings_s: dict = field(default_factory=dict)
     across: dict = field(default_factory=dict)
+    folds_across: tuple = ()
 
     @property
     def closed(self) -> tuple:
@@ -128,7 +132,7 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm)
         for k in todo:
             given[k] = outer_edges(results[k].network, sides[k], curves)
-    across = {}
+    across, maps, g0 = {}, None, None
     if across_g1:
         # every surface in G0, the curves each shares with another found on those faces, then G1
         # on the same curves and G0 faces (previous=) with the other surfaces' normals there
@@ -146,6 +150,15 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
              for r, b, g in zip(results, built, given)]
     t_surfaces = time.perf_counter() - clock
     clock = time.perf_counter()
+    folds_across = ()
+    if loops is not None:
+        # the surfaces' G0 faces along every curve two of them share: do they fold onto each other?
+        if maps is None:
+            g0 = built
+            maps = across_maps(g0, [r.network for r in results], OBJECT_SEW_FRACTION * tol.fit_mm)
+        folds_across = tuple(across_folds(g0, maps))
+    t_folds = time.perf_counter() - clock
+    clock = time.perf_counter()
     faces = [info.face for res in built for info in res.faces]
     tolerance = OBJECT_SEW_FRACTION * tol.fit_mm
     sewn = sew_at(faces, tolerance)
@@ -153,5 +166,6 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     loose = [f for f in sewn.Faces if not any(f.isSame(g) for s in shells for g in s.Faces)]
     shells += [Part.Shell([f]) for f in loose]
     shape = shells[0] if len(shells) == 1 else Part.Compound(shells)
-    timings = {"surfaces": t_surfaces, "sew": time.perf_counter() - clock}
-    return ObjectShell(shape, tuple(shells), tuple(built), _owner(shape, built), tolerance, timings, across)
+    timings = {"surfaces": t_surfaces, "folds across": t_folds, "sew": time.perf_counter() - clock}
+    return ObjectShell(shape, tuple(shells), tuple(built), _owner(shape, built), tolerance, timings, across,
+                       folds_across)

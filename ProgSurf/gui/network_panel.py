@@ -81,8 +81,13 @@ class NetworkPanel:
             text = f"Surface {k}: " + ", ".join(s.Label for s in sides)
             if inner:
                 text += "; interior: " + ", ".join(s.Label for s in inner)
+            problem = net.SurfaceQuality[k] if k < len(getattr(net, "SurfaceQuality", ())) else ""
+            if problem:
+                text += f" (warning: {problem})"
             item = QtGui.QListWidgetItem(swatch(palette[k]), text)
             item.setToolTip(text)
+            if problem:
+                item.setForeground(QtGui.QBrush(QtGui.QColor("darkorange")))
             self.surfaces.addItem(item)
         for account, line in zip(accounts, net.StrokeAccounting):
             item = QtGui.QListWidgetItem(QtGui.QIcon(icon("ProgSurf_Stroke")), line)
