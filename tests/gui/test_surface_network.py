@@ -62,6 +62,8 @@ check(panel is not None and Gui.Control.activeDialog(), "panel open")
 report("surface_rows", [panel.surfaces.item(i).text() for i in range(panel.surfaces.count())])
 report("stroke_rows", [panel.strokes.item(i).text() for i in range(panel.strokes.count())])
 check(panel.surfaces.count() == 6 and panel.strokes.count() == 13, "6 surfaces, 13 strokes listed")
+check(list(net.SurfaceQuality) == [""] * 6 and not any("warning" in panel.surfaces.item(i).text() for i in range(6)),
+      "no surface of the cube is marked")
 check("unused" in panel.strokes.item(12).text() and "isolated" in panel.strokes.item(12).text(),
       "the stray stroke is unused, with the reason")
 mw = Gui.getMainWindow()
@@ -165,3 +167,56 @@ def test_surface_network_command_panel_and_recompute():
     assert result.ok, result.explain()
     assert result.values["faces"] == 6
     assert result.values["stroke_rows"][12].startswith("Stray")
+
+
+FOLDED = r'''
+import sys
+sys.path.insert(0, {root!r})
+import numpy as np
+Gui.activateWorkbench("ProgSurfWorkbench")
+import ProgSurf.app.make as ps
+import ProgSurf.gui.common as common
+import ProgSurf.gui.network_panel as network_panel
+common.INTERACTIVE = False
+doc = App.newDocument("Folded")
+t = np.linspace(0.0, 1.0, 60)
+far = np.c_[100 * t, 50 - 90 * np.sin(np.pi * t) ** 2, 10 * np.sin(np.pi * t) ** 2]
+for pts in (np.linspace([0, 0, 0], [100, 0, 0], 30), np.linspace([0, -50, 0], [0, 50, 0], 30),
+            np.linspace([100, -50, 0], [100, 50, 0], 30), np.linspace([0, -50, 0], [100, -50, 0], 30), far):
+    ps.make_stroke_from_points(pts, doc=doc, recompute=False)
+doc.recompute()
+Gui.activeDocument().activeView().viewIsometric()
+Gui.runCommand("ProgSurf_SurfaceNetwork")
+process_events(0.5)
+net = [o for o in doc.Objects if getattr(o, "Type", "") == "ProgSurf::Network"][0]
+Gui.SendMsgToActiveView("ViewFit")
+report("quality", net.Quality)
+report("surface_quality", list(net.SurfaceQuality))
+check(net.SurfaceCount == 2 and net.Quality.startswith("quality: WARNING"), "two surfaces, a warning")
+marked = [k for k, q in enumerate(net.SurfaceQuality) if q]
+check(len(marked) == 1 and "fold" in net.SurfaceQuality[marked[0]], "the folded surface says why")
+panel = network_panel.CURRENT
+rows = [panel.surfaces.item(i) for i in range(panel.surfaces.count())]
+report("rows", [r.text() for r in rows])
+check("warning" in rows[marked[0]].text() and "warning" not in rows[1 - marked[0]].text(), "its row says so")
+check(rows[marked[0]].foreground().color().name() == QtGui.QColor("darkorange").name(), "in orange")
+check("WARNING" in panel.status.text(), "the panel's status shows the verdict")
+mw = Gui.getMainWindow()
+combo_view = mw.findChild(QtGui.QDockWidget, "Combo View")
+if combo_view is not None:
+    mw.resizeDocks([combo_view], [430], QtCore.Qt.Horizontal)
+grab_window("network_window_folded")
+panel.reject()
+process_events(0.3)
+'''
+
+
+def test_a_folded_surface_is_marked_in_the_network_panel():
+    """Two loops side by side, the far side of one swinging back over the other: that surface folds
+    inside; the network's verdict warns, SurfaceQuality says why for that surface alone, and the
+    panel lists it in orange with the reason."""
+    require_gui()
+    out = Path(SHOTS) / "network_folded" if SHOTS else None
+    result = run_in_freecad_gui(FOLDED.format(root=str(ROOT)), timeout=300, out_dir=out)
+    assert result.ok, result.explain()
+    assert "fold" in result.values["quality"]
