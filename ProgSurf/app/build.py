@@ -398,12 +398,16 @@ def skin_problems(outcome: Outcome) -> list:
             f"(fit tolerance {outcome.analysis.fit_tolerance_mm:.3g} mm)"]
 
 
+def fold_record(fold) -> dict:
+    """A fold (core.folds.Fold) as the reports list it."""
+    return {"kind": fold.kind, "angle_deg": fold.angle_deg, "regions": list(fold.regions), "edge": fold.edge}
+
+
 def quality_section(analysis: Analysis, extra: Sequence[str] = ()) -> dict:
     """The report's quality checks: folds, faces over the fit tolerance, `extra` problems the
     caller measured, and the verdict line."""
     return {"ok": not analysis.problems and not extra, "verdict": analysis.verdict(extra),
-            "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions),
-                       "edge": f.edge} for f in analysis.folds],
+            "folds": [fold_record(f) for f in analysis.folds],
             "fit_tolerance_mm": analysis.fit_tolerance_mm,
             "fit_allowance_max_mm": max(analysis.fit_allowance_by_region.values(),
                                         default=analysis.fit_tolerance_mm),

@@ -24,7 +24,7 @@ from ProgSurf.core.errors import ProgSurfError
 from ProgSurf.core.objects import BuildCache, ObjectBuild, build_object
 from ProgSurf.core.types import Tolerances
 
-from .build import FIT_GRID
+from .build import FIT_GRID, fold_record
 
 
 @dataclass(frozen=True)
@@ -190,8 +190,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
             "fit_allowance_mm": outcome.fit_allowance_mm[k],
-            "folds": [{"kind": f.kind, "angle_deg": f.angle_deg, "regions": list(f.regions), "edge": f.edge}
-                      for f in (outcome.folds[k] if outcome.folds else ())]})
+            "folds": [fold_record(f) for f in (outcome.folds[k] if outcome.folds else ())]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}
                for r in build.roles]

@@ -97,6 +97,8 @@ class Across:
         self._w = np.concatenate([s.w for s in sides])
         self.partners: set = set()
         """(surface, boundary edge id) of the other surface's sides along this edge (across_maps)."""
+        self.angles = np.full(len(CHECK), np.nan)
+        """angle_deg at CHECK along the piece of this surface's side it was found for (across_maps)."""
         self.smooth_here = False
         """Whether the two surfaces continue each other along this edge, decided alike on both sides
         (across_maps; smooth() seen from this side alone)."""
@@ -153,13 +155,12 @@ class Across:
         cos = np.clip(-np.einsum("ij,ij->i", mine, other), -1.0, 1.0)
         return np.where(ok & ok_a & ok_b, np.degrees(np.arccos(cos)), np.nan)
 
-    def smooth(self, info, k: int, piece) -> bool:
-        """True where the two surfaces continue each other all along the piece: angle_deg within
+    def smooth(self) -> bool:
+        """True where the two surfaces continue each other all along the piece: its angles within
         SHARP_DEG everywhere. (The median alone let in curves along which the faces part by 60-90
         deg somewhere, a fin where another surface folds back; G1 then made fuselage1's worst angle
         across surfaces 90 deg where G0 had 51.)"""
-        angles = self.angle_deg(info, k, piece)
-        return bool(np.isfinite(angles).any() and np.nanmax(angles) <= SHARP_DEG)
+        return bool(np.isfinite(self.angles).any() and np.nanmax(self.angles) <= SHARP_DEG)
 
 
 def across_maps(results: list, networks: list, reach: float) -> list[dict]:
@@ -188,7 +189,8 @@ def across_maps(results: list, networks: list, reach: float) -> list[dict]:
         found = out[mine.surface][p.edge_id] = Across([sides[i] for i in near if sides[i].surface in along], reach)
         owner, _, ok = found._locate(q)
         found.partners = {(found.sides[o].surface, found.sides[o].piece.edge_id) for o in owner[ok]}
-        found.smooth_here = found.smooth(mine.info, mine.k, p)
+        found.angles = found.angle_deg(mine.info, mine.k, p)
+        found.smooth_here = found.smooth()
     # one decision for both sides of a shared piece: smooth where every side along it, seen from
     # its own face, finds the surfaces continuing each other (a side judged on a longer piece can
     # part where a shorter one across it does not; G1 on one side only would meet no aim)
@@ -216,25 +218,24 @@ sharp feature was drawn; what the strokes drew is how the surfaces leave the cur
 def across_folds(results: list, maps: list) -> list[dict]:
     """The folds across surfaces of G0 faces (results: ShellResults, maps: their across_maps): per
     shared piece (once, from the surface with the lower index), {"surfaces": (a, b), "edge": boundary
-    edge id of a, "angle_deg": the largest angle between its ends, "ends_deg": the larger at its
-    ends}, where the first exceeds the second by more than FOLD_RISE_DEG."""
+    edge id of a, "angle_deg": the largest angle between its ends (Across.angles), "ends_deg": the
+    larger at its ends}, where the first exceeds the second by more than FOLD_RISE_DEG."""
     out = []
     for n, (res, found) in enumerate(zip(results, maps)):
         for info in res.g0_faces or res.faces:
             for k, pieces in enumerate(info.sides):
                 for p in pieces:
                     a = found.get(p.edge_id)
-                    if a is None or min(m for m, _ in a.partners or {(n, 0)}) < n:
+                    if a is None or not a.partners or not np.isfinite(a.angles).any():
                         continue
-                    middle = a.angle_deg(info, k, p)
-                    if not np.isfinite(middle).any():
+                    other = min(m for m, _ in a.partners)
+                    if other < n:
                         continue
                     ends = a.angle_deg(info, k, p, END_CHECK)
                     top = float(np.nanmax(ends)) if np.isfinite(ends).any() else 0.0
-                    worst = float(np.nanmax(middle))
+                    worst = float(np.nanmax(a.angles))
                     if worst > top + FOLD_RISE_DEG:
-                        out.append({"surfaces": (n, min(m for m, _ in a.partners)), "edge": p.edge_id,
-                                    "angle_deg": worst, "ends_deg": top})
+                        out.append({"surfaces": (n, other), "edge": p.edge_id, "angle_deg": worst, "ends_deg": top})
     return out
 
 

@@ -46,7 +46,7 @@ def prepare(tri: FloatArray) -> tuple[FloatArray, np.ndarray, FloatArray]:
     good = nrm > 1e-300
     n_unit = n / np.where(good, nrm, 1.0)[:, None]
     # inverse of the column matrix [R S N] by cross products: rows (S x N, N x R, R x S) / det
-    rows = np.stack([cross3(s_vec, n_unit), cross3(n_unit, r_vec), cross3(r_vec, s_vec)], axis=1)
+    rows = np.stack([cross3(s_vec, n_unit), cross3(n_unit, r_vec), n], axis=1)
     det = np.einsum("ij,ij->i", r_vec, rows[:, 0])
     good &= np.abs(det) > 1e-300
     inv = rows / np.where(good, det, 1.0)[:, None, None]

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .coons import CoonsPatch, coons_blend, f1
-from .footpoint import Facets, Footpoint, _closest_on_triangles, footpoint, nearest_on_mesh, prepare, real_footpoint
+from .footpoint import Facets, Footpoint, nearest_on_mesh, prepare, real_footpoint
 from .network_views import pruned
 from .preimage import bilinear, cross2, inverse_bilinear_sets
 from .types import FloatArray, Polyline, evaluate_polyline_rows, evaluate_polylines
@@ -320,13 +320,15 @@ class NetworkSurface:
         """Footpoint of q on the current surface (Eq. 2). The nearest real footpoint is searched
         only among regions whose bounding box can hold one nearer than the best of the nearest
         few regions (same result as searching every facet, in the same order); only when those
-        have none is every facet searched."""
+        have none is every facet searched for one, and then for the nearest point of the mesh only
+        the regions whose box is no further than the near regions' nearest point."""
         q = np.asarray(q, dtype=float)
         parts = self._facet_parts()
         boxes = self._boxes(parts)
         gap = np.linalg.norm(np.maximum(0.0, np.maximum(boxes[:, 0] - q, q - boxes[:, 1])), axis=1)
         near = np.sort(np.argsort(gap, kind="stable")[:NEAR_REGIONS])
-        found = real_footpoint(q, _join_parts([parts[i] for i in near]), slack, near_uv)
+        near_facets = _join_parts([parts[i] for i in near])
+        found = real_footpoint(q, near_facets, slack, near_uv)
         if found is not None:
             # (a margin for the round-off of the boxes: 1e-9 mm at 100 mm, relative to the point)
             margin = 1e-11 * (float(np.abs(q).max()) + abs(found.distance) + slack)
@@ -340,9 +342,9 @@ class NetworkSurface:
         # the nearest point of the mesh: among the regions whose box is no further than the
         # nearest point of the near ones (the same point as over every facet, found first in the
         # same order: a facet at that least distance lies in a region whose box is no further)
-        _, dist = _closest_on_triangles(q, _join_parts([parts[i] for i in near]).xyz)
-        margin = 1e-11 * (float(np.abs(q).max()) + float(dist.min()))
-        reach = np.flatnonzero(gap <= float(dist.min()) + margin)
+        bound = nearest_on_mesh(q, near_facets).distance
+        margin = 1e-11 * (float(np.abs(q).max()) + bound)
+        reach = np.flatnonzero(gap <= bound + margin)
         return nearest_on_mesh(q, _join_parts([parts[i] for i in reach]))
 
     def _boxes(self, parts: list) -> FloatArray:
