@@ -56,6 +56,11 @@ def _ramp(poly: Polyline, delta0: FloatArray, delta1: FloatArray) -> Polyline:
     return Polyline(poly.points + (1.0 - t) * delta0 + t * delta1, poly.params)
 
 
+DEGENERATE_ATOL = 1e-12
+"""Relative round-off (of the coordinates' size) under which a point is the point a collapsed side
+is made of (PatchNetwork.split_edge, stroke_ends._collapsed_near)."""
+
+
 def _split_polyline(poly: Polyline, t: float, point: FloatArray) -> tuple[Polyline, Polyline]:
     """Split at parameter t, inserting ``point`` there; each half re-parameterised to 0..1."""
     prm, pts = poly.params, poly.points
@@ -263,6 +268,13 @@ class PatchNetwork(NetworkViews, NetworkSurface):
         e = self._edges[eid]
         poly = e.polyline
         here = poly.evaluate(t)
+        if not np.ptp(poly.points, axis=0).max() > 0.0:
+            # a piece of a 3-sided patch's collapsed side stays one point, bit for bit: its pieces
+            # are found by it (stroke_ends._collapsed_near), and interpolating between equal points
+            # is not exact (the split's round-off, 6e-14 mm, made a meridian's later neighbour miss
+            # the collapsed side on one BLAS kernel and not on another)
+            here = poly.points[0].copy()
+            pull = pull and not np.allclose(xyz, here, rtol=0.0, atol=DEGENERATE_ATOL * (1.0 + np.abs(here).max()))
         if pull:
             delta = np.asarray(xyz, dtype=float) - here
             tau = poly.params

@@ -14,7 +14,7 @@ from typing import Optional
 import numpy as np
 
 from .errors import StrokeOutsideSurfaceError, StrokeRejectedError
-from .network import EdgeSegments, PatchNetwork
+from .network import DEGENERATE_ATOL, EdgeSegments, PatchNetwork
 from .preimage import ray_exit, segment_intersections
 from .strokes import cumulative_length, ramp
 from .types import FloatArray
@@ -132,10 +132,11 @@ def _collapsed_near(net: PatchNetwork, p: FloatArray, reach: float, segs: EdgeSe
     """(edge id, edge) of the degenerate edges within reach of p: pieces of the collapsed side of a
     3-sided patch, one point in 3D and a segment of the pre-image."""
     a, b, eid = segs[0], segs[1], segs[2]
-    near = np.all(a == b, axis=1) & (np.linalg.norm(a - p, axis=1) <= reach)
+    atol = DEGENERATE_ATOL * (1.0 + float(np.abs(p).max()))          # round-off, not geometry
+    near = (np.abs(a - b).max(axis=1) <= atol) & (np.linalg.norm(a - p, axis=1) <= reach)
     edges = net.edges()
     return [(int(k), edges[int(k)]) for k in np.unique(eid[near])
-            if not np.ptp(edges[int(k)].polyline.points, axis=0).max() > 0.0]
+            if not np.ptp(edges[int(k)].polyline.points, axis=0).max() > atol]
 
 
 def _at_apex(net: PatchNetwork, pts: FloatArray, snaps: list, snap: float, segs: EdgeSegments) -> list:
