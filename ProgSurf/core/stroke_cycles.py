@@ -15,6 +15,7 @@ Dangling edges (pruned first) bound nothing; they are candidates for interior st
 """
 from __future__ import annotations
 
+import heapq
 from dataclasses import dataclass
 
 import numpy as np
@@ -179,31 +180,46 @@ def _parts(graph: StrokeGraph, live: set) -> list:
 
 
 def _oriented_normals(graph: StrokeGraph, half: dict) -> dict:
-    """Node normals, flipped along the graph (breadth first) to agree with their neighbour's
-    across each edge, compared with their components along the edge's chord removed."""
+    """Node normals, flipped along the graph to agree with their neighbour's across each edge,
+    compared with their components along the edge's chord removed. The most certain agreements
+    go first (a maximum spanning tree of |agreement|, as Hoppe et al. 1992 orient point normals):
+    a node whose edges give a poor plane (its normal near the others' tangent plane, as where a
+    stroke lifted off the sheet is snapped onto a crossing by short edges) is reached last, so a
+    wrong sign there does not spread to the nodes beyond it."""
     raw = {n: _raw_normal(np.array([t for _, _, t in hs])) for n, hs in half.items()}
     normals: dict = {}
+
+    def agreement(u: int, v: int, nv: FloatArray) -> float:
+        c = graph.nodes[v].point - graph.nodes[u].point
+        cn = np.linalg.norm(c)
+        c = c / cn if cn > 0 else c
+        pu, pv = normals[u] - (normals[u] @ c) * c, nv - (nv @ c) * c
+        return float(pu @ pv)
+
     for seed in sorted(half, key=lambda n: -len(half[n])):
         if seed in normals or raw[seed] is None:
             continue
         normals[seed] = raw[seed]
-        queue = [seed]
-        while queue:
-            u = queue.pop(0)
+        heap: list = []
+
+        def push(u: int) -> None:
             for eid, _, _ in half[u]:
-                e = graph.edges[eid]
-                v = e.other(u)
+                v = graph.edges[eid].other(u)
                 if v in normals:
                     continue
-                nv = raw[v]
-                if nv is None:      # two collinear edges: the neighbour's, across the edge
-                    nv = normals[u]
-                c = graph.nodes[v].point - graph.nodes[u].point
-                cn = np.linalg.norm(c)
-                c = c / cn if cn > 0 else c
-                pu, pv = normals[u] - (normals[u] @ c) * c, nv - (nv @ c) * c
-                normals[v] = -nv if pu @ pv < 0 else nv
-                queue.append(v)
+                # two collinear edges (no normal of its own): the neighbour's, across the edge
+                nv = raw[v] if raw[v] is not None else normals[u]
+                sure = 2.0 if raw[v] is None else abs(agreement(u, v, nv))
+                heapq.heappush(heap, (-sure, v, u))
+
+        push(seed)
+        while heap:
+            _, v, u = heapq.heappop(heap)
+            if v in normals:
+                continue
+            nv = raw[v] if raw[v] is not None else normals[u]
+            normals[v] = -nv if agreement(u, v, nv) < 0 else nv
+            push(v)
     return normals
 
 
