@@ -38,6 +38,8 @@ class ObjectOutcome:
                (cad.analysis.fit_allowance: the fit tolerance plus its sides' chord sag)
     folds : per surface, cad.analysis.folds of its built faces (the single surface's check: seams
                creased, faces turned over); folds between surfaces are model.folds_across
+    seam_angle_max_deg : per surface, the largest angle between two of its faces' normals along a
+               seam between them, away from the seam's ends (cad.analysis.inner_seam_angle_max_deg)
     shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
     timings_s : seconds per step
     """
@@ -49,6 +51,7 @@ class ObjectOutcome:
     shells: tuple
     timings_s: dict = field(default_factory=dict)
     folds: tuple = ()
+    seam_angle_max_deg: tuple = ()
 
     @property
     def shape(self):
@@ -148,9 +151,11 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
     measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)
                 for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces)]
     folds = [k[2] if k else tuple(cad_analysis.folds(shell_result)) for k, shell_result in zip(kept, model.surfaces)]
+    seams = [k[3] if k else cad_analysis.inner_seam_angle_max_deg(shell_result)
+             for k, shell_result in zip(kept, model.surfaces)]
     if cache is not None:
-        for key, shell_result, fit, found in zip(keys, model.surfaces, measured, folds):
-            cache.store("cad surface", key, (shell_result, fit, found))
+        for key, shell_result, fit, found, seam in zip(keys, model.surfaces, measured, folds, seams):
+            cache.store("cad surface", key, (shell_result, fit, found, seam))
     shells = []
     for s in model.shells:
         info = cad_analysis.shell_seam_gaps(s)
@@ -158,7 +163,7 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
         shells.append(info)
     timings["analysis"] = time.perf_counter() - clock
     return ObjectOutcome(build, model, tuple(d for d, _ in measured), tuple(a for _, a in measured),
-                         tuple(shells), timings, tuple(folds))
+                         tuple(shells), timings, tuple(folds), tuple(seams))
 
 
 def _fit_and_allowance(shell_result, network, fit_mm: float) -> tuple[float, float]:
@@ -189,6 +194,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "side_strokes": [graph.edges[e].stroke for e in surf.sides],
             "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
+            "seam_angle_max_deg": outcome.seam_angle_max_deg[k] if outcome.seam_angle_max_deg else None,
             "fit_allowance_mm": outcome.fit_allowance_mm[k],
             "folds": [fold_record(f) for f in (outcome.folds[k] if outcome.folds else ())]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
@@ -209,6 +215,11 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         "failed_loops": [{"side_strokes": [graph.edges[e].stroke for e, _ in c.sides], "reason": r}
                          for c, r in build.failed],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
+        # the single surface's headline measures, over the whole object: the largest fit deviation
+        # of any surface, and the largest angle between two faces' normals along any seam away from
+        # its ends, inside a surface or between two (creases drawn sharp included)
+        "fit_deviation_max_mm": max(outcome.fit_deviation_mm, default=0.0),
+        "seam_angle_max_deg": max([*outcome.seam_angle_max_deg, outcome.model.across_angle_max_deg], default=0.0),
         "across_surfaces": dict(outcome.model.across),
         "folds_across_surfaces": [dict(f, surfaces=list(f["surfaces"]), strokes=outcome.shared_strokes(*f["surfaces"]))
                                   for f in outcome.model.folds_across],

@@ -405,16 +405,8 @@ def face_folds(faces, sharp_edges=()) -> list[Fold]:
     between 5 % and 95 % of the seam (seams kept sharp on purpose, sharp_edges, excepted), and
     faces whose normal turns by more than FOLD_FACE_DEG inside them (from their mean normal, or
     between two normals closer than TUCK_REACH of the diagonal of all the faces)."""
-    out = []
-    t = np.linspace(0.05, 0.95, FOLD_SAMPLES)
-    sharp = set(sharp_edges)
-    for eid, uses in sorted(_uses_of(faces).items()):
-        if len(uses) != 2 or eid in sharp:
-            continue
-        _, angles = _seam_samples(uses[0], uses[1], t)
-        angles = angles[~np.isnan(angles)]
-        if len(angles) and angles.max() > FOLD_SEAM_DEG:
-            out.append(Fold("seam", float(angles.max()), (uses[0][0].region_id, uses[1][0].region_id), edge=eid))
+    out = [Fold("seam", angle, regions, edge=eid)
+           for eid, regions, angle in _inner_seam_angles(faces, sharp_edges) if angle > FOLD_SEAM_DEG]
     s, r = _fold_grid()
     samples = [_face_points_and_normals(info, s, r) for info in faces]
     if samples:
@@ -425,6 +417,29 @@ def face_folds(faces, sharp_edges=()) -> list[Fold]:
         if turn > FOLD_FACE_DEG:
             out.append(Fold("face", turn, (info.region_id,)))
     return out
+
+
+def _inner_seam_angles(faces, sharp_edges=()) -> list:
+    """[(edge id, (region ids), largest angle between the two faces' normals between 5 % and 95 %
+    of the seam, deg)] of every seam among FaceInfos (not those in sharp_edges) where one is defined."""
+    t = np.linspace(0.05, 0.95, FOLD_SAMPLES)
+    sharp = set(sharp_edges)
+    out = []
+    for eid, uses in sorted(_uses_of(faces).items()):
+        if len(uses) != 2 or eid in sharp:
+            continue
+        _, angles = _seam_samples(uses[0], uses[1], t)
+        angles = angles[~np.isnan(angles)]
+        if len(angles):
+            out.append((eid, (uses[0][0].region_id, uses[1][0].region_id), float(angles.max())))
+    return out
+
+
+def inner_seam_angle_max_deg(result) -> float:
+    """The largest angle (deg) between two faces' normals along any seam of a ShellResult, between
+    5 % and 95 % of each seam (where the normals are defined; 0 with no seam): the measure of
+    face_folds' seam check, sharp edges drawn on purpose included."""
+    return max((a for _, _, a in _inner_seam_angles(result.faces)), default=0.0)
 
 
 def face_turn_deg(info) -> float:

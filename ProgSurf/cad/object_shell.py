@@ -54,6 +54,9 @@ class ObjectShell:
     folds_across : with shared curves (loops), cad.object_g1.across_folds of the G0 faces: where two
                  surfaces part along a curve they share by more than FOLD_RISE_DEG beyond how the
                  strokes at its ends make them leave it (a crease, fin or tuck nobody drew)
+    across_angle_max_deg : with shared curves, the largest angle between two surfaces' G0 normals
+                 along a curve they share, between its ends (Across.angles at CHECK; creases drawn
+                 sharp included); 0 without
     """
 
     shape: object
@@ -64,6 +67,7 @@ class ObjectShell:
     timings_s: dict = field(default_factory=dict)
     across: dict = field(default_factory=dict)
     folds_across: tuple = ()
+    across_angle_max_deg: float = 0.0
 
     @property
     def closed(self) -> tuple:
@@ -150,13 +154,15 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
              for r, b, g in zip(results, built, given)]
     t_surfaces = time.perf_counter() - clock
     clock = time.perf_counter()
-    folds_across = ()
+    folds_across, across_max = (), 0.0
     if loops is not None:
         # the surfaces' G0 faces along every curve two of them share: do they fold onto each other?
         if maps is None:
             g0 = built
             maps = across_maps(g0, [r.network for r in results], OBJECT_SEW_FRACTION * tol.fit_mm)
         folds_across = tuple(across_folds(g0, maps))
+        angles = [a.angles for found in maps for a in found.values() if np.isfinite(a.angles).any()]
+        across_max = float(max(np.nanmax(a) for a in angles)) if angles else 0.0
     t_folds = time.perf_counter() - clock
     clock = time.perf_counter()
     faces = [info.face for res in built for info in res.faces]
@@ -168,4 +174,4 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     shape = shells[0] if len(shells) == 1 else Part.Compound(shells)
     timings = {"surfaces": t_surfaces, "folds across": t_folds, "sew": time.perf_counter() - clock}
     return ObjectShell(shape, tuple(shells), tuple(built), _owner(shape, built), tolerance, timings, across,
-                       folds_across)
+                       folds_across, across_max)

@@ -164,25 +164,45 @@ def test_by_default_a_cube_builds_every_surface_and_a_square_one(tmp_path):
     assert proc.returncode == 0, proc.stderr
     report = json.loads((tmp_path / "cube.json").read_text())
     assert report["mode"] == "all" and len(report["surfaces"]) == 6
+    # the single surface's headline measures, over the object: each flat face meets its
+    # neighbours at the cube's right angles, and no face has a seam inside it
+    assert report["seam_angle_max_deg"] == pytest.approx(90.0, abs=1e-6)
+    assert all(s["seam_angle_max_deg"] == 0.0 for s in report["surfaces"])
+    assert report["fit_deviation_max_mm"] == max(s["fit_deviation_max_mm"] for s in report["surfaces"])
     proc = run("build", str(ROOT / "examples" / "clean4.xyz"), "-o", str(tmp_path / "c4.step"),
                "--report", str(tmp_path / "c4.json"))
     assert proc.returncode == 0, proc.stderr
     assert "mode" not in json.loads((tmp_path / "c4.json").read_text())
 
 
-@pytest.mark.skipif(not SMALL.is_file(), reason=f"shared sketch {SMALL} not found")
+CAR = DATA / "cassie" / "vintage_car.xyz"
+
+
+@pytest.mark.skipif(not CAR.is_file(), reason=f"shared sketch {CAR} not found")
 def test_by_default_a_sketch_with_no_single_boundary_loop_builds_every_surface(tmp_path):
-    """04-1-1 (CASSIE): one sheet of curves whose loops face one way, but its strokes leave a 350 mm
-    gap round any single boundary: the single surface is refused, and --surfaces auto (the
-    default) then builds the network's surfaces and says why."""
+    """vintage_car (CASSIE): one part whose loops face mostly one way (a roof and sides wrapping
+    round), so --surfaces auto tries the single surface first; its strokes leave a gap of over a
+    metre round any single boundary, the single surface is refused, and auto then builds the
+    network's surfaces and says why."""
     report_path = tmp_path / "r.json"
-    proc = run("build", str(SMALL), "-o", str(tmp_path / "r.step"), "--report", str(report_path))
+    proc = run("build", str(CAR), "-o", str(tmp_path / "r.step"), "--report", str(report_path))
     assert "no single boundary loop" in proc.stdout
     report = json.loads(report_path.read_text())
-    assert report["mode"] == "all" and report["surfaces"]
-    # exit 0 when every check passes, 3 (files written) when one fails: here two of its rough loops
-    # turn over (the fold checks), and the verdict says so
+    assert report["mode"] == "all" and len(report["surfaces"]) >= 40
+    # exit 0 when every check passes, 3 (files written) when one fails: here many of its rough
+    # loops turn over (the fold checks), and the verdict says so
     assert proc.returncode == (0 if report["quality"]["ok"] else 3), proc.stderr
     assert (tmp_path / "r.step").is_file()
+
+
+@pytest.mark.skipif(not SMALL.is_file(), reason=f"shared sketch {SMALL} not found")
+def test_a_sketch_whose_loops_face_every_way_builds_every_surface(tmp_path):
+    """04-1-1 (CASSIE, a lamp): its loops face every way round the shade, so --surfaces auto
+    builds every surface at once; the single surface is refused with the gap that stops one loop."""
+    report_path = tmp_path / "r.json"
+    proc = run("build", str(SMALL), "-o", str(tmp_path / "r.step"), "--report", str(report_path))
+    report = json.loads(report_path.read_text())
+    assert report["mode"] == "all" and len(report["surfaces"]) >= 3
+    assert proc.returncode == (0 if report["quality"]["ok"] else 3), proc.stderr
     proc = run("build", str(SMALL), "-o", str(tmp_path / "one.step"), "--surfaces", "one")
     assert proc.returncode == 2 and "gap" in proc.stderr
