@@ -253,11 +253,14 @@ def shape_point_distances(shape, points: FloatArray) -> FloatArray:
 def shell_seam_gaps(shape, samples: int = 32) -> dict:
     """Watertightness of any shell (e.g. one read back from STEP/IGES): for every edge shared by two
     faces, the largest distance between the two faces' surfaces evaluated through the edge's two
-    pcurves (what OCC itself uses), and the count of free (one-face) edges.
+    pcurves (what OCC itself uses), and the count of free (one-face) edges; a degenerated edge
+    (the collapsed side of a 3-sided face: a point, no boundary) is neither.
     Returns {'shared_edges', 'free_edges', 'seam_gap_max_mm'}."""
     shared = free = 0
     gap = 0.0
     for edge in shape.Edges:
+        if edge.Degenerated:
+            continue
         nfaces = len(shape.ancestorsOfType(edge, Part.Face))
         if nfaces == 1:
             free += 1

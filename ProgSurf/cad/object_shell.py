@@ -92,6 +92,29 @@ def _owner(shape, surfaces: list) -> tuple:
     return tuple(out)
 
 
+def with_vertices(face, points: list):
+    """The face with its edges split at those of `points` (mm) that lie on an edge between its
+    ends (within 1e-9 of the face's size): the same surface and boundary, more vertices
+    (Part's general fuse of the face with those points)."""
+    import FreeCAD
+
+    size = max(face.BoundBox.DiagonalLength, 1e-300)
+    near = 1e-9 * size + 1e-12
+    split = []
+    for p in points:
+        v = Part.Vertex(FreeCAD.Vector(*map(float, p)))
+        if any(v.distToShape(e)[0] <= near and min(v.distToShape(x)[0] for x in e.Vertexes) > near
+               for e in face.Edges):
+            split.append(v)
+    if not split or any(e.Degenerated for e in face.Edges):
+        # (a 3-sided face's collapsed side is a degenerated edge, which the fuse makes an
+        # ordinary edge of no length, left free in the sewn shell: such faces are kept whole)
+        return face
+    fused, _ = face.generalFuse(split)
+    out = fused.Faces
+    return out[0] if len(out) == 1 and out[0].isValid() else face
+
+
 def sew_at(faces: list, tolerance: float):
     """The faces sewn by BRepBuilderAPI_Sewing at `tolerance` mm (through Surface::Sewing, see
     the module docstring): a Shell, or a Compound of shells and faces."""
@@ -166,6 +189,14 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     t_folds = time.perf_counter() - clock
     clock = time.perf_counter()
     faces = [info.face for res in built for info in res.faces]
+    if loops is not None:
+        # every face gets a vertex at each node of its surface's loop that lies inside one of its
+        # edges (a node where two merged sides meet, or corners put elsewhere): the sewing joins
+        # edge to edge, and a neighbour's vertex inside an edge left whole surfaces unsewn
+        polylines, sides = loops
+        ends = [[np.asarray(polylines[gid][-1] if rev else polylines[gid][0], dtype=float) for gid, rev in loop]
+                for loop in sides]
+        faces = [with_vertices(info.face, ends[k]) for k, res in enumerate(built) for info in res.faces]
     tolerance = OBJECT_SEW_FRACTION * tol.fit_mm
     sewn = sew_at(faces, tolerance)
     shells = list(sewn.Shells)

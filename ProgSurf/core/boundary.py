@@ -599,7 +599,7 @@ def stroke_end_pairs(strokes: Sequence[npt.ArrayLike], which: Sequence[int]) -> 
 
 
 def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
-                        inside: Sequence[npt.ArrayLike] = ()) -> BoundaryLoop:
+                        inside: Sequence[npt.ArrayLike] = (), apex: Optional[int] = None) -> BoundaryLoop:
     """The BoundaryLoop of a loop that is closed already (issue 18: a cycle of the stroke network,
     whose sides meet at its nodes exactly): steps 4-5 of the module docstring without the closing
     of step 3, which would cut or extend sides that two surfaces share.
@@ -607,6 +607,8 @@ def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
     sides   : (n_k, 3) each, in loop order, each starting where the previous one ends
     sources : the stroke (or network edge) index of each side, for BoundaryLoop.source
     inside  : the strokes inside the loop (their ends help choose a triangle's apex: triangle_apex)
+    apex    : of three sides, the corner that is the apex (0-2, the corner after side apex - 1);
+              None = triangle_apex's choice
     Sides are faired, densely sampled polylines. Every point of them is kept: of two opposite
     sides, the one with fewer points gets more, evenly in arc length between its own
     (equalise_uniform with every vertex kept), and each side is mapped to the unit square by arc
@@ -623,7 +625,8 @@ def boundary_from_sides(sides: Sequence[npt.ArrayLike], sources: Sequence[int],
         pts = [_join([pts[i] for i in g]) for g in groups]
     srcs = [tuple(sorted({int(sources[i]) for i in g})) for g in groups]
     if len(pts) == 3:
-        apex = triangle_apex(pts, stroke_end_pairs(inside, range(len(inside))))
+        if apex is None:
+            apex = triangle_apex(pts, stroke_end_pairs(inside, range(len(inside))))
         pts, srcs = turn_to_apex(pts, apex), turn_to_apex(srcs, apex)
         notes.append(f"three-sided loop: top side degenerate at corner {pts[1][-1].round(3).tolist()} (Fig. 4)")
         srcs.insert(2, ())

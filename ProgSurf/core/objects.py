@@ -25,9 +25,10 @@ from typing import Optional, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from .boundary import best_fit_plane, boundary_from_sides
+from .boundary import BoundaryLoop, best_fit_plane, boundary_from_sides, stroke_end_pairs
 from .errors import ProgSurfError
 from .fairing import fair_stroke, stroke_tolerance
+from .loop_corners import choose_sides
 from .pipeline import BuildResult, build_network, resolve_tolerances
 from .stroke_cycles import Cycle, CycleChoice, find_cycles, vector_area
 from .stroke_graph import StrokeGraph, build_stroke_graph
@@ -267,10 +268,12 @@ def faired_nodes(graph: StrokeGraph, faired: list, arcs: Optional[dict] = None) 
     return {node: np.mean(list(points.values()), axis=0) for node, points in on.items()}
 
 
-def _split_few_sides(sides: list) -> list:
+def _split_few_sides(sides: list, flags: Optional[list] = None):
     """A loop of one or two sides (a closed stroke, two strokes between the same two nodes) has
-    its sides cut at their middles until it has four, so that it can be a 4-sided boundary."""
+    its sides cut at their middles until it has four, so that it can be a 4-sided boundary.
+    With flags (one per side), returns (sides, flags) with each half keeping its side's flag."""
     sides = list(sides)
+    out_flags = list(flags) if flags is not None else [None] * len(sides)
     while len(sides) < 4:
         k = max(range(len(sides)), key=lambda i: chord_length(sides[i]))
         pts = sides[k]
@@ -282,7 +285,22 @@ def _split_few_sides(sides: list) -> list:
         if len(a) < 2 or len(b) < 2:
             break
         sides[k:k + 1] = [a, b]
-    return sides
+        out_flags[k:k + 1] = [out_flags[k], out_flags[k]]
+    return sides if flags is None else (sides, out_flags)
+
+
+def _shaped_loop(sides: list, inner: list, own: list) -> tuple[list, BoundaryLoop]:
+    """A cycle's sides and its BoundaryLoop: the paper's corners (boundary_from_sides), or where
+    their base patch would fold, the corners loop_corners.choose_sides finds (a note says so)."""
+    ends = stroke_end_pairs(inner, range(len(inner))) if inner else None
+    chosen = choose_sides(sides, ends, own)
+    if chosen is None:
+        return sides, boundary_from_sides(sides, list(range(len(sides))), inner)
+    shaped, apex, before, after = chosen
+    loop = boundary_from_sides(shaped, list(range(len(shaped))), inner, apex=1 if apex == 1 else None)
+    note = (f"corners moved: with the merged sides' corners its base patch turns {before:.0f} deg inside "
+            f"it (a fold), with these {len(shaped)} corners {after:.0f} deg")
+    return shaped, replace(loop, notes=tuple(loop.notes) + (note,))
 
 
 class _Loop:
@@ -409,17 +427,22 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     # each surface's polylines as they are: no second filtering or fairing (module docstring)
     inner_tol = replace(tol, filter_mm=0.0, fair_mm=0.0)
     surfaces, failed = [], []
+    uses: dict = {}
+    for cycle in choice.cycles:
+        for e, _ in cycle.sides:
+            uses[e] = uses.get(e, 0) + 1
     for k, cycle in enumerate(choice.cycles):
-        sides = _split_few_sides(cycle.polylines_from(polylines))
+        # a side no other surface shares may get a corner in its middle (loop_corners)
+        sides, own = _split_few_sides(cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides])
         inside = interior.get(k, [])
         inner = [polylines[e] for e in inside]
-        key = surface_key(sides, inner, inner_tol)
+        key = (surface_key(sides, inner, inner_tol), tuple(own))
         done = cache.lookup("surface", key) if cache is not None else None
         reused = done is not None
         if done is None:
             try:
-                loop = boundary_from_sides(sides, list(range(len(sides))), inner)
-                done = build_network(sides + inner, boundary=list(range(len(sides))), tol=inner_tol, loop=loop)
+                shaped, loop = _shaped_loop(sides, inner, own)
+                done = build_network(shaped + inner, boundary=list(range(len(shaped))), tol=inner_tol, loop=loop)
             except ProgSurfError as exc:
                 done = str(exc)
         if cache is not None:

@@ -56,18 +56,22 @@ def test_tapered_tube_builds_one_closed_shell_without_a_boundary_named():
     assert out.shells[0]["free_edges"] == 0
     # the surfaces meet along every shared curve as the strokes there say: no crease between them
     assert out.model.folds_across == ()
-    assert all("fold(s) inside surfaces" in p for p in out.problems)
+    assert out.problems == []
     # the body of revolution: two cone frusta (5 -> 100 mm over 400 mm) and a 200 mm cylinder
     cone = np.pi * 400.0 / 3 * (5.0 ** 2 + 5.0 * 100.0 + 100.0 ** 2)
     body = 2 * cone + np.pi * 100.0 ** 2 * 200.0
     assert abs(Part.Solid(shell).Volume) == pytest.approx(body, rel=0.01)
 
 
-@pytest.mark.xfail(strict=True, reason="known weakness: on the exact tapered tube 16 tip triangles and one "
-                   "cylinder quad read a tuck of 100-112 deg near a corner (cad.analysis.folds); seen in renders")
 def test_tapered_tube_has_no_fold_inside_a_surface():
+    """With the paper's corners, the exact tapered tube's 16 tip triangles (apex at the tip) and one
+    cylinder quad read a tuck of 100-112 deg near a corner (cad.analysis.folds; a tongue at each
+    tip in the render). Their base patches turn that far already, so core.loop_corners gives those
+    loops the corners whose Coons patch turns least: no surface folds."""
     out = build_object_and_measure(tapered_tube())
     assert not any(out.folds), [k for k, f in enumerate(out.folds) if f]
+    moved = [s for s in out.build.surfaces if any("corners moved" in n for n in s.result.boundary.notes)]
+    assert 1 <= len(moved) <= 17
 
 
 def _far_side_strokes(reach_y: float) -> list:
@@ -126,9 +130,11 @@ def test_cylinder_rims_and_rulings_give_a_tube_closed_around():
     out = build_object_and_measure(cylinder())
     assert len(out.model.shells) == 1
     info = out.shells[0]
-    # four faces around: the four rulings shared, the rims free (a tube, open at its ends)
+    # four faces around: the four rulings shared, the rims free (a tube, open at its ends); each
+    # rim is cut at its four rulings and at the node where its closed stroke starts and ends, and
+    # every face has a vertex at each node of its loop (cad.object_shell.with_vertices): 5 + 5
     assert info["faces"] == 4 and info["valid"] and not info["closed"]
-    assert info["shared_edges"] == 4 and info["free_edges"] == 8
+    assert info["shared_edges"] == 4 and info["free_edges"] == 10
     pts = face_points(out.shape)
     radius = np.linalg.norm(pts[:, :2], axis=1)
     assert np.abs(radius - 5.0).max() < 0.25        # the Coons faces of four quarter arcs: near the cylinder

@@ -135,21 +135,39 @@ HELIBODY_CLEAN = DATA / "tigl" / "helibody" / "helibody.clean.xyz"
 
 
 @pytest.mark.skipif(not HELIBODY_CLEAN.is_file(), reason=f"shared sketch {HELIBODY_CLEAN} not found")
+def test_the_helicopter_nose_cap_is_smooth():
+    """helibody (TiGL, clean): the nose cap's strips converge to its tip. With every loop's corners
+    where the paper's merge puts them, 52 of its 115 surfaces turned over and the strips met in 33
+    creases (ribs in the render); with the corners of a folding loop chosen where its Coons patch
+    turns least (core.loop_corners), at most 10 fold and none creases against its neighbour, in
+    one closed shell."""
+    from ProgSurf.app.objects import build_object_and_measure
+    from ProgSurf.io import read_strokes
+
+    out = build_object_and_measure(read_strokes(HELIBODY_CLEAN))
+    assert len(out.build.surfaces) >= 100
+    assert out.model.folds_across == ()
+    assert sum(1 for f in out.folds if f) <= 10
+    assert len(out.shells) == 1 and out.shells[0]["closed"] and out.shells[0]["free_edges"] == 0
+
+
+CAR = DATA / "cassie" / "vintage_car.xyz"
+
+
+@pytest.mark.skipif(not CAR.is_file(), reason=f"shared sketch {CAR} not found")
 def test_creases_between_surfaces_that_no_stroke_draws_are_reported():
-    """helibody (TiGL, clean): the nose cap's strips, converging to its tip, meet each other in
-    creases (ribs in the render) although the profiles cross the guides there smoothly: the strips
-    leave each shared guide within 30 deg of opposite directions at its ends and part by over 90 deg
-    between (cad.object_g1.across_folds). The verdict names them and the report lists each with the
-    stroke it runs along; the exact tapered tube and the cube have none (test_objects)."""
+    """vintage_car (CASSIE): some of its rough neighbouring loops fold onto each other along the
+    strokes they share, where the strokes at the ends make them meet at under 65 deg. The verdict
+    names them and the report lists each with the stroke it runs along
+    (cad.object_g1.across_folds); the exact tapered tube and the cube have none (test_objects)."""
     from ProgSurf.app.objects import build_object_and_measure, object_report
     from ProgSurf.cad.object_g1 import FOLD_RISE_DEG
     from ProgSurf.io import read_strokes
 
-    out = build_object_and_measure(read_strokes(HELIBODY_CLEAN))
+    out = build_object_and_measure(read_strokes(CAR))
     found = out.model.folds_across
-    assert len(found) >= 10
+    assert len(found) >= 5
     assert all(f["angle_deg"] > f["ends_deg"] + FOLD_RISE_DEG for f in found)
-    assert sum(f["ends_deg"] <= 30.0 and f["angle_deg"] > 90.0 for f in found) >= 10
     assert any("crease(s) between surfaces" in p for p in out.problems)
     listed = object_report(out)["folds_across_surfaces"]
     assert len(listed) == len(found) and all(f["strokes"] for f in listed)
@@ -173,9 +191,6 @@ def test_by_default_a_cube_builds_every_surface_and_a_square_one(tmp_path):
                "--report", str(tmp_path / "c4.json"))
     assert proc.returncode == 0, proc.stderr
     assert "mode" not in json.loads((tmp_path / "c4.json").read_text())
-
-
-CAR = DATA / "cassie" / "vintage_car.xyz"
 
 
 @pytest.mark.skipif(not CAR.is_file(), reason=f"shared sketch {CAR} not found")

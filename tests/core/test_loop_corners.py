@@ -1,0 +1,104 @@
+"""Corners of a loop whose Coons patch would fold (core.loop_corners), and the vertices the sewing
+needs where a neighbour's corner lies inside a face's edge (cad.object_shell.with_vertices)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ProgSurf.core.folds import find_folds
+from ProgSurf.core.loop_corners import FOLD_DEG, choose_sides, default_sides, patch_turn_deg
+from ProgSurf.core.objects import build_object
+
+R = 100.0
+DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
+
+
+def _sphere(theta, phi):
+    return R * np.column_stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
+
+
+def nose_cap(tip_deg: float = 8.0, meridians: int = 8) -> list:
+    """A hemisphere drawn as a designer draws a nose: its rim, a small ring round the pole and
+    meridians from the rim to the ring, so that strips converge to the tip (the TiGL helicopter's
+    nose cap is such a net)."""
+    ring = np.radians(tip_deg)
+    phi = np.linspace(0.0, 2 * np.pi, 121)
+    strokes = [_sphere(np.full_like(phi, np.pi / 2), phi), _sphere(np.full_like(phi, ring), phi)]
+    for k in range(meridians):
+        a = 2 * np.pi * (k + 0.5) / meridians
+        th = np.linspace(np.pi / 2, ring, 40)
+        strokes.append(_sphere(th, np.full_like(th, a)))
+    return strokes
+
+
+def test_a_flat_square_keeps_its_corners():
+    t = np.linspace(0.0, 1.0, 20)[:, None]
+    c = np.array([[0, 0, 0], [100, 0, 0], [100, 80, 0], [0, 80, 0]], float)
+    sides = [c[k] + t * (c[(k + 1) % 4] - c[k]) for k in range(4)]
+    assert patch_turn_deg(sides, 20.0) < 1e-6
+    assert choose_sides(sides) is None
+
+
+def test_the_nose_caps_folding_loops_get_corners_where_their_patch_does_not_fold():
+    """The ring round the pole is one loop of 8 sides: merged to four by the paper's rule its Coons
+    patch turns over (180 deg); two strips converging to the tip fold as well (130 deg: the core's
+    fold check, which would refuse every stroke drawn inside them). Each gets other corners, and
+    no surface of the cap folds."""
+    build = build_object(nose_cap())
+    assert len(build.surfaces) == 9 and not build.failed
+    moved = []
+    for k, surf in enumerate(build.surfaces):
+        assert find_folds(surf.result.network) == [], k
+        notes = [n for n in surf.result.boundary.notes if "corners moved" in n]
+        if notes:
+            moved.append(k)
+            sides = [np.asarray(s) for s in surf.cycle.polylines_from(build.polylines)]
+            first, _ = default_sides(sides)
+            reach = 0.15 * float(np.linalg.norm(np.ptp(np.vstack(sides), axis=0)))
+            assert patch_turn_deg(first, reach) > FOLD_DEG          # the paper's corners fold
+    assert len(moved) >= 1
+    cap = max(range(len(build.surfaces)), key=lambda k: len(build.surfaces[k].sides))
+    assert len(build.surfaces[cap].sides) == 8 and cap in moved
+
+
+def test_the_nose_cap_is_one_shell_without_a_fold():
+    """The cap's faces, corners moved or not, sewn into one shell that passes every check."""
+    from ProgSurf.app.objects import build_object_and_measure
+
+    out = build_object_and_measure(nose_cap())
+    assert out.problems == []
+    assert len(out.shells) == 1 and out.shells[0]["valid"]
+    assert out.shells[0]["free_edges"] == 8          # the rim, in the 8 pieces its meridians cut
+
+
+def test_a_face_gets_a_vertex_where_a_point_lies_inside_its_edge():
+    import Part
+    from FreeCAD import Vector
+
+    from ProgSurf.cad.object_shell import with_vertices
+
+    face = Part.makePlane(100.0, 50.0)
+    split = with_vertices(face, [np.array([40.0, 0.0, 0.0]), np.array([0.0, 0.0, 0.0]), np.array([50.0, 20.0, 0.0])])
+    assert len(face.Edges) == 4 and len(split.Edges) == 5           # only the point inside an edge
+    assert split.Area == pytest.approx(face.Area, rel=1e-12) and split.isValid()
+    assert any(v.Point.isEqual(Vector(40, 0, 0), 1e-9) for v in split.Vertexes)
+    assert with_vertices(face, [np.array([50.0, 20.0, 0.0])]) is face
+
+
+LAMP = DATA / "cassie" / "10-2-1.xyz"
+
+
+@pytest.mark.skipif(not LAMP.is_file(), reason=f"shared sketch {LAMP} not found")
+def test_a_lamp_with_moved_corners_stays_sewn():
+    """10-2-1 (CASSIE, a lamp): moving the corners of its folding loops left faces whose corner lay
+    inside a neighbour's edge, and Surface::Sewing did not join 6 of them (7 shells where the
+    paper's corners gave 5); with a vertex there (with_vertices) it is 5 shells again, and fewer
+    of its surfaces fold (40 of 46 with the paper's corners)."""
+    from ProgSurf.app.objects import build_object_and_measure
+    from ProgSurf.io import read_strokes
+
+    out = build_object_and_measure(read_strokes(LAMP))
+    assert len(out.shells) <= 5
+    assert sum(1 for f in out.folds if f) <= 38
