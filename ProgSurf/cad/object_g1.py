@@ -99,6 +99,9 @@ class Across:
         """(surface, boundary edge id) of the other surface's sides along this edge (across_maps)."""
         self.angles = np.full(len(CHECK), np.nan)
         """angle_deg at CHECK along the piece of this surface's side it was found for (across_maps)."""
+        self.near_corner = np.zeros(len(CHECK), dtype=bool)
+        """Where, at CHECK, the other surface's point lies within CORNER_SKIP of a corner of its
+        face (across_maps): there it leaves the curve along its adjacent side, drawn there."""
         self.smooth_here = False
         """Whether the two surfaces continue each other along this edge, decided alike on both sides
         (across_maps; smooth() seen from this side alone)."""
@@ -187,9 +190,10 @@ def across_maps(results: list, networks: list, reach: float) -> list[dict]:
             continue
         along = {n for n, hit in zip(others, reached) if hit.any()}
         found = out[mine.surface][p.edge_id] = Across([sides[i] for i in near if sides[i].surface in along], reach)
-        owner, _, ok = found._locate(q)
+        owner, w, ok = found._locate(q)
         found.partners = {(found.sides[o].surface, found.sides[o].piece.edge_id) for o in owner[ok]}
         found.angles = found.angle_deg(mine.info, mine.k, p)
+        found.near_corner = ok & (np.minimum(w, 1.0 - w) < CORNER_SKIP)
         found.smooth_here = found.smooth()
     # one decision for both sides of a shared piece: smooth where every side along it, seen from
     # its own face, finds the surfaces continuing each other (a side judged on a longer piece can
@@ -208,6 +212,12 @@ END_CHECK = np.array([0.02, 0.98])
 """Edge parameters next to a piece's ends. There each face leaves the shared curve along the side
 that meets it there (a Coons patch's derivative across a side at a corner is the tangent of the
 adjacent side): along the strokes drawn across the curve."""
+CORNER_SKIP = 0.05
+"""A point of a shared curve this close (in its side's parameter) to a corner of the other
+surface's face is not checked for a crease: there that face leaves the curve along its adjacent
+side, which a stroke drew (the rule of END_CHECK, seen from the other side). Measured exactly at
+such a corner the angle was a matter of round-off (fuselage1 clean: 116 deg on one OpenBLAS kernel,
+undefined on another, next to readings of 65 deg)."""
 FOLD_RISE_DEG = 60.0
 """A shared piece along which the two surfaces part, somewhere between its ends, by more than this
 beyond how they leave it at its ends folds one surface onto the other (a fin or a tuck nobody drew:
@@ -233,7 +243,12 @@ def across_folds(results: list, maps: list) -> list[dict]:
                         continue
                     ends = a.angle_deg(info, k, p, END_CHECK)
                     top = float(np.nanmax(ends)) if np.isfinite(ends).any() else 0.0
-                    worst = float(np.nanmax(a.angles))
+                    # away from both surfaces' corners: next to its own ends (CHECK) and to the
+                    # other's face corners, each face leaves the curve along a side drawn there
+                    inner = np.where(a.near_corner, np.nan, a.angles)
+                    if not np.isfinite(inner).any():
+                        continue
+                    worst = float(np.nanmax(inner))
                     if worst > top + FOLD_RISE_DEG:
                         out.append({"surfaces": (n, other), "edge": p.edge_id, "angle_deg": worst, "ends_deg": top})
     return out
