@@ -216,6 +216,9 @@ def _load(path: Union[str, Path]) -> _Capture:
             labels = _labels(reader, n_points)
         except _PARSE_ERRORS as exc:
             raise StrokeFileError(f"{path}: unreadable C3D parameters ({exc})") from None
+        if data_start < 0:        # the reader would seek before the file's start (OSError)
+            raise StrokeFileError(f"{path}: its header puts the frame data at block "
+                                  f"{data_start // _BLOCK + 1}; C3D blocks count from 1")
         if n_points == 0:
             raise StrokeFileError(
                 f"{path} has no 3D points (POINT:USED is 0); record at least one marker")

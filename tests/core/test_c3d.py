@@ -20,7 +20,7 @@ pytest.importorskip("c3d", reason="the c3d package is not installed: .venv/bin/p
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from c3d_fixtures import quantise, runs_to_trajectory, write_c3d  # noqa: E402
 
-from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
+from hypothesis import HealthCheck, example, given, settings, strategies as st  # noqa: E402
 from hypothesis.extra import numpy as hnp  # noqa: E402
 
 from ProgSurf.core.errors import InvalidOptionError, MissingPackageError, StrokeFileError  # noqa: E402
@@ -290,6 +290,7 @@ def test_truncated_file(good_file, tmp_path, cut):
 @settings(max_examples=40, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(cut=st.integers(0, 8000), flip=st.integers(0, 2000), byte=st.integers(0, 255))
+@example(cut=0, flip=16, byte=0)      # the header's data block 0: the reader sought before the start
 def test_damaged_files_give_stroke_file_error_or_the_right_strokes(good_file, tmp_path, cut, flip,
                                                                     byte):
     """Cut or corrupt a good file anywhere: never a traceback, only StrokeFileError or a result."""
