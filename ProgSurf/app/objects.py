@@ -39,7 +39,7 @@ class ObjectOutcome:
     folds : per surface, cad.analysis.folds of its built faces (the single surface's check: seams
                creased, faces turned over); folds between surfaces are model.folds_across
     seam_angle_max_deg : per surface, the largest angle between two of its faces' normals along a
-               seam between them, away from the seam's ends (cad.analysis.inner_seam_angle_max_deg)
+               seam between them, away from the seam's ends (cad.analysis.folds_and_seam_max_deg)
     shells : per shell {faces, closed, valid, shared_edges, free_edges, seam_gap_max_mm}
     timings_s : seconds per step
     """
@@ -150,9 +150,10 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
     clock = time.perf_counter()
     measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)
                 for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces)]
-    folds = [k[2] if k else tuple(cad_analysis.folds(shell_result)) for k, shell_result in zip(kept, model.surfaces)]
-    seams = [k[3] if k else cad_analysis.inner_seam_angle_max_deg(shell_result)
-             for k, shell_result in zip(kept, model.surfaces)]
+    checked = [k[2:] if k else cad_analysis.folds_and_seam_max_deg(shell_result)
+               for k, shell_result in zip(kept, model.surfaces)]
+    folds = [tuple(found) for found, _ in checked]
+    seams = [seam for _, seam in checked]
     if cache is not None:
         for key, shell_result, fit, found, seam in zip(keys, model.surfaces, measured, folds, seams):
             cache.store("cad surface", key, (shell_result, fit, found, seam))

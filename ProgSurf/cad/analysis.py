@@ -400,7 +400,17 @@ def _face_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, np.nd
 
 def folds(result) -> list[Fold]:
     """Every fold of a ShellResult: face_folds of its faces, its sharp_edges excepted."""
-    return face_folds(result.faces, getattr(result, "sharp_edges", ()) or ())
+    return folds_and_seam_max_deg(result)[0]
+
+
+def folds_and_seam_max_deg(result) -> tuple[list[Fold], float]:
+    """(folds(result), the largest angle (deg) between two faces' normals along any of its seams
+    between 5 % and 95 % of the seam, sharp edges drawn on purpose included; 0 with no seam where
+    the normals are defined), the seams sampled once for both."""
+    seams = _inner_seam_angles(result.faces)
+    sharp = set(getattr(result, "sharp_edges", ()) or ())
+    found = _folds(result.faces, [seam for seam in seams if seam[0] not in sharp])
+    return found, max((a for _, _, a in seams), default=0.0)
 
 
 def face_folds(faces, sharp_edges=()) -> list[Fold]:
@@ -408,8 +418,12 @@ def face_folds(faces, sharp_edges=()) -> list[Fold]:
     between 5 % and 95 % of the seam (seams kept sharp on purpose, sharp_edges, excepted), and
     faces whose normal turns by more than FOLD_FACE_DEG inside them (from their mean normal, or
     between two normals closer than TUCK_REACH of the diagonal of all the faces)."""
-    out = [Fold("seam", angle, regions, edge=eid)
-           for eid, regions, angle in _inner_seam_angles(faces, sharp_edges) if angle > FOLD_SEAM_DEG]
+    return _folds(faces, _inner_seam_angles(faces, sharp_edges))
+
+
+def _folds(faces, seams: list) -> list[Fold]:
+    """face_folds of FaceInfos whose seams' angles (_inner_seam_angles) are measured already."""
+    out = [Fold("seam", angle, regions, edge=eid) for eid, regions, angle in seams if angle > FOLD_SEAM_DEG]
     s, r = _fold_grid()
     samples = [_face_points_and_normals(info, s, r) for info in faces]
     if samples:
@@ -436,13 +450,6 @@ def _inner_seam_angles(faces, sharp_edges=()) -> list:
         if len(angles):
             out.append((eid, (uses[0][0].region_id, uses[1][0].region_id), float(angles.max())))
     return out
-
-
-def inner_seam_angle_max_deg(result) -> float:
-    """The largest angle (deg) between two faces' normals along any seam of a ShellResult, between
-    5 % and 95 % of each seam (where the normals are defined; 0 with no seam): the measure of
-    face_folds' seam check, sharp edges drawn on purpose included."""
-    return max((a for _, _, a in _inner_seam_angles(result.faces)), default=0.0)
 
 
 def face_turn_deg(info) -> float:

@@ -188,8 +188,9 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         across_max = float(max(np.nanmax(a) for a in angles)) if angles else 0.0
     t_folds = time.perf_counter() - clock
     clock = time.perf_counter()
-    faces = [info.face for res in built for info in res.faces]
-    if loops is not None:
+    if loops is None:
+        faces = [info.face for res in built for info in res.faces]
+    else:
         # every face gets a vertex at each node of its surface's loop that lies inside one of its
         # edges (a node where two merged sides meet, or corners put elsewhere): the sewing joins
         # edge to edge, and a neighbour's vertex inside an edge left whole surfaces unsewn

@@ -25,7 +25,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .boundary import best_fit_plane, merge_to_four, triangle_apex, turn_to_apex
-from .coons import df1, f1, f2
+from .coons import coons_blend, df1, f1, f2
 from .folds import FACE_SAMPLES, FACE_TURN_DEG, TUCK_REACH, _face_samples, tuck_deg, turn_from_mean_deg
 from .strokes import cumulative_length, point_at_length
 from .types import FloatArray
@@ -86,11 +86,11 @@ def patch_turn_deg(sides: Sequence[FloatArray], reach: float, samples: int = FAC
     (b0, b1, b2), (r0, r1, r2), (t0, t1, t2), (l0, l1, l2) = ([x[:n], x[n:2 * n], x[2 * n:]] for x in values)
     du = (at_u[n:2 * n] - at_u[2 * n:])[:, None]
     dv = (at_v[n:2 * n] - at_v[2 * n:])[:, None]
-    p00, p10, p11, p01 = pts[0][0], pts[0][-1], pts[1][-1], pts[3][0]
+    p00, p10, p11, p01 = corners = np.array([pts[0][0], pts[0][-1], pts[1][-1], pts[3][0]])
+    points = coons_blend(s, r, (b0, r0, t0, l0), corners)
+    # its partial derivatives, Eq. 1 differentiated (the sides' by their central differences)
     fu1, fu2, fv1, fv2 = f1(s)[:, None], f2(s)[:, None], f1(r)[:, None], f2(r)[:, None]
     du1, dv1 = df1(s)[:, None], df1(r)[:, None]
-    points = (fu1 * l0 + fu2 * r0 + fv1 * b0 + fv2 * t0
-              - fu1 * (fv1 * p00 + fv2 * p01) - fu2 * (fv1 * p10 + fv2 * p11))
     pu = (du1 * (l0 - r0) + fv1 * (b1 - b2) / du + fv2 * (t1 - t2) / du
           - du1 * ((fv1 * p00 + fv2 * p01) - (fv1 * p10 + fv2 * p11)))
     pv = (fu1 * (l1 - l2) / dv + fu2 * (r1 - r2) / dv + dv1 * (b0 - t0)

@@ -268,12 +268,11 @@ def faired_nodes(graph: StrokeGraph, faired: list, arcs: Optional[dict] = None) 
     return {node: np.mean(list(points.values()), axis=0) for node, points in on.items()}
 
 
-def _split_few_sides(sides: list, flags: Optional[list] = None):
-    """A loop of one or two sides (a closed stroke, two strokes between the same two nodes) has
-    its sides cut at their middles until it has four, so that it can be a 4-sided boundary.
-    With flags (one per side), returns (sides, flags) with each half keeping its side's flag."""
-    sides = list(sides)
-    out_flags = list(flags) if flags is not None else [None] * len(sides)
+def _split_few_sides(sides: list, flags: list) -> tuple[list, list]:
+    """A loop of fewer than four sides (a closed stroke, two strokes between the same two nodes,
+    three strokes) has its longest side cut at its middle until it has four, so that it can be a
+    4-sided boundary. flags: one per side; returns (sides, flags), each half keeping its side's flag."""
+    sides, flags = list(sides), list(flags)
     while len(sides) < 4:
         k = max(range(len(sides)), key=lambda i: chord_length(sides[i]))
         pts = sides[k]
@@ -285,8 +284,8 @@ def _split_few_sides(sides: list, flags: Optional[list] = None):
         if len(a) < 2 or len(b) < 2:
             break
         sides[k:k + 1] = [a, b]
-        out_flags[k:k + 1] = [out_flags[k], out_flags[k]]
-    return sides if flags is None else (sides, out_flags)
+        flags[k:k + 1] = [flags[k], flags[k]]
+    return sides, flags
 
 
 def _shaped_loop(sides: list, inner: list, own: list) -> tuple[list, BoundaryLoop]:
