@@ -30,6 +30,7 @@ class SeamStat:
 
     gap_max_mm      : largest |S_a - S_b| at matching points of the shared edge
     angle_max_deg, angle_median_deg : angle between the unit normals of the two faces (G1 defect)
+                      between SEAM_END and 1 - SEAM_END of the seam, where both are defined
 
     G1SeamStat adds what the G1 targets need (sharp features).
     """
@@ -94,16 +95,30 @@ def _measured(a: tuple, b: tuple, samples: int) -> tuple[FloatArray, FloatArray]
     return fa.derived.seam((ka, pa, samples), fb.derived, (kb, pb), measure)
 
 
-def _summary(gaps: FloatArray, angles: FloatArray) -> tuple[float, float, float]:
-    """(gap_max_mm, angle_max_deg, angle_median_deg) of a seam's samples; the angles where a normal
-    is undefined (NaN) are left out, and both angles are 0 where none is defined."""
+SEAM_END = 0.05
+"""The seam angles leave out this fraction of a seam at each end, as the fold check does
+(FOLD_SAMPLES; issue 16: a fold is two normals that differ "along their shared edge, away from its
+ends"). At a 3-sided face's collapsed corner the derivative along the collapsed side is 1e-17 to
+1e-12 of the other, so its normal there points wherever the round-off does: sampled at the ends,
+seams that end at an apex read 170-180 deg on sketches with no fold at all."""
+
+
+def _summary(gaps: FloatArray, angles: FloatArray, ends: bool = False) -> tuple[float, float, float]:
+    """(gap_max_mm, angle_max_deg, angle_median_deg) of a seam's samples, evenly spaced over the
+    whole seam: the gap over all of them, the angles between SEAM_END and 1 - SEAM_END (with ends,
+    over all of them), those where a normal is undefined (NaN) left out; both angles are 0 where
+    none is defined."""
+    if not ends:
+        t = np.linspace(0.0, 1.0, len(angles))
+        angles = angles[(t >= SEAM_END) & (t <= 1.0 - SEAM_END)]
     angles = angles[~np.isnan(angles)]
     return (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
             float(np.median(angles)) if len(angles) else 0.0)
 
 
 def seam_stats(result, samples: int = 64) -> list[SeamStat]:
-    """Gap and normal angle along every edge shared by two faces, sampled at `samples` points."""
+    """Gap and normal angle along every edge shared by two faces, sampled at `samples` points (the
+    angle away from the seam's ends: _summary)."""
     out = []
     for eid, uses in sorted(_edge_uses(result).items()):
         if len(uses) != 2:
@@ -342,7 +357,7 @@ def g1_seam_stats(result, network, samples: int = 128) -> list[G1SeamStat]:
         gaps, angles = _measured(uses[0], uses[1], samples)
         kept = angles[~np.isnan(angles) & keep]
         is_sharp = eid in sharp
-        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, *_summary(gaps, angles), is_sharp,
+        out.append(G1SeamStat(eid, fa.region_id, fb.region_id, *_summary(gaps, angles, ends=True), is_sharp,
                               0.0 if is_sharp or not len(kept) else float(kept.max()), spread))
     return out
 
