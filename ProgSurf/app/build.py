@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 FIT_GRID = 21
 """Samples per side of the grid on which a face is compared with its Coons sub-patch."""
 
-SEAM_SAMPLES = 64
+SEAM_SAMPLES = cad_analysis.SEAM_SAMPLES
 """Points along a shared edge at which the gap and the normal angle of its two faces are measured."""
 
 

@@ -95,12 +95,26 @@ def _measured(a: tuple, b: tuple, samples: int) -> tuple[FloatArray, FloatArray]
     return fa.derived.seam((ka, pa, samples), fb.derived, (kb, pb), measure)
 
 
-SEAM_END = 0.05
-"""The seam angles leave out this fraction of a seam at each end, as the fold check does
-(FOLD_SAMPLES; issue 16: a fold is two normals that differ "along their shared edge, away from its
-ends"). At a 3-sided face's collapsed corner the derivative along the collapsed side is 1e-17 to
+SEAM_SAMPLES = 101
+"""Points along every seam (evenly, ends included: every 1 % of it) at which its gap and normal
+angle are measured: the report's seam figures and the fold check (_inner_seam_angles) read the
+same samples."""
+
+SEAM_END = 0.04
+"""The seam angles leave out this fraction of a seam at each end (issue 16: a fold is two normals
+that differ "along their shared edge, away from its ends"; sketchgen's run_family reads 5 % to 95 %
+of the edge's own parameter, which is not quite the face's, hence a little more here: a tuck at
+95 % of a seam next to an apex read 92 deg there and was missed at 94 %). At a 3-sided face's collapsed corner the derivative along the collapsed side is 1e-17 to
 1e-12 of the other, so its normal there points wherever the round-off does: sampled at the ends,
 seams that end at an apex read 170-180 deg on sketches with no fold at all."""
+
+
+def _away_from_ends(angles: FloatArray) -> FloatArray:
+    """The defined angles (not NaN) of a seam's evenly spaced samples between SEAM_END and
+    1 - SEAM_END of it."""
+    t = np.linspace(0.0, 1.0, len(angles))
+    angles = angles[(t >= SEAM_END - 1e-12) & (t <= 1.0 - SEAM_END + 1e-12)]
+    return angles[~np.isnan(angles)]
 
 
 def _summary(gaps: FloatArray, angles: FloatArray, ends: bool = False) -> tuple[float, float, float]:
@@ -108,15 +122,12 @@ def _summary(gaps: FloatArray, angles: FloatArray, ends: bool = False) -> tuple[
     whole seam: the gap over all of them, the angles between SEAM_END and 1 - SEAM_END (with ends,
     over all of them), those where a normal is undefined (NaN) left out; both angles are 0 where
     none is defined."""
-    if not ends:
-        t = np.linspace(0.0, 1.0, len(angles))
-        angles = angles[(t >= SEAM_END) & (t <= 1.0 - SEAM_END)]
-    angles = angles[~np.isnan(angles)]
+    angles = angles[~np.isnan(angles)] if ends else _away_from_ends(angles)
     return (float(gaps.max()), float(angles.max()) if len(angles) else 0.0,
             float(np.median(angles)) if len(angles) else 0.0)
 
 
-def seam_stats(result, samples: int = 64) -> list[SeamStat]:
+def seam_stats(result, samples: int = SEAM_SAMPLES) -> list[SeamStat]:
     """Gap and normal angle along every edge shared by two faces, sampled at `samples` points (the
     angle away from the seam's ends: _summary)."""
     out = []
@@ -381,9 +392,9 @@ face's mean normal (it turns over on itself), or two normals this far apart less
 core.folds.TUCK_REACH of the diagonal from each other (a tuck)."""
 
 FOLD_SAMPLES = 9
-"""Points per seam (between 5 % and 95 % of it) and per side of a face's grid (3 % in from its
-sides) at which folds are looked for: the ends of a seam and the sides of a face are left out,
-where a 3-sided face's collapsed corner has no defined normal."""
+"""Points per side of a face's grid (3 % in from its sides) at which face folds are looked for: the
+sides of a face are left out, where a 3-sided face's collapsed corner has no defined normal (seams:
+SEAM_SAMPLES between SEAM_END and 1 - SEAM_END)."""
 
 
 def _fold_grid() -> tuple[FloatArray, FloatArray]:
@@ -452,16 +463,18 @@ def _folds(faces, seams: list) -> list[Fold]:
 
 
 def _inner_seam_angles(faces, sharp_edges=()) -> list:
-    """[(edge id, (region ids), largest angle between the two faces' normals between 5 % and 95 %
-    of the seam, deg)] of every seam among FaceInfos (not those in sharp_edges) where one is defined."""
-    t = np.linspace(0.05, 0.95, FOLD_SAMPLES)
+    """[(edge id, (region ids), largest angle between the two faces' normals between SEAM_END and
+    1 - SEAM_END of the seam, deg)] of every seam among FaceInfos (not those in sharp_edges) where
+    one is defined: the SEAM_SAMPLES samples the report's seam angles read (_measured, kept with
+    the face), so the fold check and the report agree. With 9 samples (FOLD_SAMPLES) the check
+    missed a tuck 3 % of a seam wide next to a 3-sided face's apex that the report read at 84 deg
+    (sketchgen 67000 sk_octant_4)."""
     sharp = set(sharp_edges)
     out = []
     for eid, uses in sorted(_uses_of(faces).items()):
         if len(uses) != 2 or eid in sharp:
             continue
-        _, angles = _seam_samples(uses[0], uses[1], t)
-        angles = angles[~np.isnan(angles)]
+        angles = _away_from_ends(_measured(uses[0], uses[1], SEAM_SAMPLES)[1])
         if len(angles):
             out.append((eid, (uses[0][0].region_id, uses[1][0].region_id), float(angles.max())))
     return out
