@@ -18,7 +18,7 @@ build's quality verdict reports, instead of the whole build failing on valid str
 from __future__ import annotations
 
 import hashlib
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
@@ -218,7 +218,8 @@ def _nothing(kind: str, key) -> None:
 
 
 def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats: dict | None = None,
-              keep: "ShellCache | None" = None, given: tuple | None = None) -> dict:
+              keep: "ShellCache | None" = None, given: tuple | None = None,
+              tight: Mapping | None = None) -> dict:
     """edge_id -> cubic Part.BSplineCurve on [0,1] (edge param 0 at node0). Each network curve (an
     outer side or an accepted stroke) is fitted once through all its nodes, then cut at them; a curve
     whose edges do not form one chain is fitted edge by edge.
@@ -232,7 +233,9 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
     given : (edge id -> curve, node id -> (3,) point): curves made elsewhere (cad.shared_edges: a
             whole object's boundary edges, pieces of the curves two surfaces share) and the points of
             their nodes; a network curve whose every edge is given takes them, the other curves are
-            fitted through those node points."""
+            fitted through those node points.
+    tight : curve id -> factor (< 1) on its fit tolerance: curves of a face that came out further
+            from its sub-patch than the fit tolerance (app.build.tighten_fit)."""
     edges = network.edges()
     nodes = node_points(edges)
     given_curves, given_nodes = given if given is not None else ({}, {})
@@ -240,12 +243,14 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
     by_curve: dict = {}
     for e in edges.values():
         by_curve.setdefault(e.curve_id, []).append(e)
-    tol_mm = tol.fit_mm * EDGE_FIT_FRACTION
+    base_mm = tol.fit_mm * EDGE_FIT_FRACTION
+    tight = tight or {}
     lookup = _nothing if cache is None else cache.lookup
     curves, fitted_curves = {}, {}
     reused = fitted = 0
     digests: dict = {}          # every live polyline's entry (each edge's is made or renewed below)
     for cid, group in by_curve.items():
+        tol_mm = base_mm * tight.get(cid, 1.0)
         ckey = (cid, tol_mm)
         keys = {e.id: _edge_key(e, nodes, digests, lookup) for e in group}
         before = lookup("curves", ckey) or {}

@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Mapping
 
 import numpy as np
 
@@ -103,6 +105,7 @@ class ShellResult:
     g0_faces    : in G1 mode, the G0 FaceInfos the G1 faces were made from (same order); else ()
     g0_folds    : in G1 mode, the folds of those G0 faces (analysis.face_folds, sharp_edges
                   excepted), found once for keep_no_new_fold and app.build; else ()
+    tight       : curve id -> factor on its fit tolerance that this build fitted it with (build_shell)
     cache       : what a later build_shell(..., previous=this) may reuse (ShellCache): fitted
                   curves and faces keyed by the exact content (polylines, nodes, tolerance) they
                   were made from, the sewn shell, and the same of the build before
@@ -122,6 +125,7 @@ class ShellResult:
     reused: dict = field(default_factory=dict, compare=False)
     g1_reverted: tuple = ()
     g0_folds: tuple = ()
+    tight: Mapping = field(default_factory=lambda: MappingProxyType({}))
 
 
 G1_REVERT_ROUNDS = 4
@@ -166,7 +170,8 @@ def network_diagonal(network) -> float:
 
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                 previous: "ShellResult | None" = None, given: tuple | None = None,
-                across: dict | None = None, g1_limit_mm: float | None = None) -> ShellResult:
+                across: dict | None = None, g1_limit_mm: float | None = None,
+                tight: dict | None = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
     continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
@@ -181,6 +186,8 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                object continues this one (cad.g1.smooth_faces).
     g1_limit_mm : G1 mode: how far a G1 face may lie from its G0 face (default: cad.g1.offset_limit_mm
                of the network; a whole object's surfaces take it of the whole sketch).
+    tight    : curve id -> factor on its fit tolerance (cad.edges.fit_edges(tight=)); default: the
+               previous build's, so that an edit does not loosen what an earlier build tightened.
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
@@ -190,7 +197,9 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     last = previous.cache if previous is not None else ShellCache()
     cache = ShellCache(older=replace(last, older=None) if previous is not None else None)
     stats: dict = {}
-    curves = fit_edges(network, tol, last, stats, keep=cache, given=given)
+    if tight is None:
+        tight = dict(previous.tight) if previous is not None else {}
+    curves = fit_edges(network, tol, last, stats, keep=cache, given=given, tight=tight)
     t1 = time.perf_counter()
     infos, counts_faces = coons_faces(network, curves, last, cache)
     t2 = time.perf_counter()
@@ -222,4 +231,4 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     counts["sewn"] = (sum(1 for f in faces if id(f) in presewn), len(faces))
     counts["local_sew"] = local is not None
     return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts, reverted,
-                       g0_folds)
+                       g0_folds, MappingProxyType(dict(tight)))
