@@ -81,7 +81,8 @@ def crossing_nodes(net: PatchNetwork, crossings: list[Crossing], p0: FloatArray,
     :func:`_plan_nodes`). When two such nodes clash (the stroke would run along the curve between
     them, or they are out of order along the line), one of them is not used: the one whose
     crossings then leave the wider node spacing, if that is at least NODE_SPACING_UV. Otherwise
-    the stroke is rejected, as it would leave a sliver region."""
+    the stroke is rejected, as it would leave a sliver region; unless it only runs along a curve
+    at an end, which then stops at the node where it leaves that curve (_plan_nodes(merge_ends=))."""
     edges = net.edges()
     near: dict[int, tuple[float, int]] = {}          # edge id -> (distance, end node) within reach
     for tk, eid, se in crossings:
@@ -105,12 +106,16 @@ def crossing_nodes(net: PatchNetwork, crossings: list[Crossing], p0: FloatArray,
                    for n in sorted(clash - exact)]     # (spacing without node n, n)
         gap, drop = max(options, default=(0.0, -1))
         if gap < NODE_SPACING_UV:
+            if isinstance(error, StrokeRunsAlongCurveError):
+                plan, _, merged_error = _plan_nodes(net, edges, crossings, near, p0, line, merge_ends=True)
+                if merged_error is None:
+                    return plan
             raise error
         near = without(drop)
 
 
 def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0: FloatArray,
-                line: FloatArray) -> tuple[list, set, Optional[StrokeRejectedError]]:
+                line: FloatArray, merge_ends: bool = False) -> tuple[list, set, Optional[StrokeRejectedError]]:
     """One plan for :func:`crossing_nodes` in which the existing nodes ``near`` (edge id ->
     (distance, node)) are used by their crossings. The stroke then passes through each such node,
     so every crossing of an edge ending there is that node too (a straight piece from the node
@@ -118,7 +123,8 @@ def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0:
     pre-image leaves the line by less than NODE_SNAP_UV there, and every region stays convex: the
     node already has curves on both sides of any line through it. Returns (plan, set(), None), or
     (the plan so far, the used nodes that clash, the error that rejects the stroke if no other
-    plan is found)."""
+    plan is found). merge_ends: an end of the line that runs along a curve into a used node stops
+    at that node (the last resort of crossing_nodes before rejecting the stroke)."""
     via = {node for _, node in near.values()}
     plan: list[tuple[float, int, int, float]] = []
     for tk, eid, se in crossings:
@@ -139,7 +145,10 @@ def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0:
         if any(entry[1] == node for entry in plan):
             return plan, {node}, _too_close()
         plan.append((t, node, eid, se))
-    for (ta, na, ea, _), (tb, nb, eb, _) in zip(plan[:-1], plan[1:]):
+    k = 0
+    trimmed = (None, None)          # the curves the first and the last end were merged into
+    while k < len(plan) - 1:
+        (ta, na, ea, _), (tb, nb, eb, _) = plan[k], plan[k + 1]
         if tb <= ta:
             return plan, {na, nb} & via, _too_close()
         # The piece between them would run along an edge: one joining two used nodes, or the edge
@@ -152,8 +161,21 @@ def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0:
         elif nb < 0 <= na and na in (edges[eb].node0, edges[eb].node1):
             along = eb
         if along is not None:
+            # An end of the pre-image that runs along a curve into the node next to it retraces
+            # that curve (an over-sketch of it, within the snap distance at both ends): the stroke
+            # starts, or ends, at that node instead of being rejected (sketchgen: a short diagonal
+            # drawn along an earlier one from near the corner to the middle).
+            # (On along the curve, node by node, while it keeps retracing it.)
+            if merge_ends and len(plan) > 2 and k == 0 and ((na < 0 and ta <= 1e-6) or trimmed[0] == edges[along].curve_id):
+                plan, trimmed = plan[1:], (edges[along].curve_id, trimmed[1])
+                continue
+            if (merge_ends and len(plan) > 2 and k == len(plan) - 2
+                    and ((nb < 0 and tb >= 1.0 - 1e-6) or trimmed[1] == edges[along].curve_id)):
+                plan, trimmed = plan[:-1], (trimmed[0], edges[along].curve_id)
+                continue
             return plan, {na, nb} & via, StrokeRunsAlongCurveError(
                 f"its pre-image runs along curve {edges[along].curve_id} near a node")
+        k += 1
     return plan, set(), None
 
 

@@ -45,6 +45,8 @@ class StrokeRecord:
     end_offsets_mm : |Q - F| at each end placed by a footpoint (0 for snapped ends)
     points  : (n, 3) the stroke as it was used (filtered, faired, trimmed), or None
     fair_deviation_mm : largest distance of the filtered stroke from its faired curve
+    merged_curves : ids of earlier curves an end of this stroke retraced and was merged into (it
+              stops at the node where it leaves them: node_planning._plan_nodes(merge_ends=))
     """
 
     index: int
@@ -60,13 +62,15 @@ class StrokeRecord:
     end_offsets_mm: tuple = ()
     points: Optional[FloatArray] = None
     fair_deviation_mm: float = 0.0
+    merged_curves: tuple = ()
 
 
 @dataclass
 class _Work:
     """What add_stroke has done so far, for its record: per straight piece its pre-image ends (2, 2),
     curve id, end kinds and end offsets; the ids of the earlier curves pulled to the stroke, and
-    its misses of the earlier stroke curves it crossed (stroke_insertion._place_nodes)."""
+    its misses of the earlier stroke curves it crossed (stroke_insertion._place_nodes); its ends
+    merged into a curve they retrace: (curve id, fraction of the piece's pre-image, which end)."""
 
     pre_image: list = field(default_factory=list)
     curve_ids: list = field(default_factory=list)
@@ -74,6 +78,7 @@ class _Work:
     ends: list = field(default_factory=list)
     offsets: list = field(default_factory=list)
     misses: list = field(default_factory=list)
+    merged: list = field(default_factory=list)
 
 
 def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerances, snap: float,
@@ -141,12 +146,20 @@ def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
     note = f"{len(work.curve_ids)} straight piece(s); ends: {', '.join(work.ends)}"
     if work.pulled:
         note += f"; pulled curve(s) {sorted(work.pulled)} to it"
+    for curve, share, which in work.merged:
+        info = net.curve_info(curve)
+        drawn = (f"stroke {info['stroke']}" if info["kind"] == "stroke" and info["stroke"] is not None
+                 else "the boundary" if info["kind"] == "outer" else f"curve {curve}")
+        verb = "starts" if which == "first" else "ends"
+        note += (f"; its {which} {100.0 * share:.0f} % retraces {drawn} (curve {curve}): merged into it, it "
+                 f"{verb} where it leaves that curve")
     splits = sum(kind == "created" for kind, _ in replanned) // 2
     if splits:
         note += f"; {splits} region(s) split along the old surface where it would have creased"
     return StrokeRecord(index, "interior", "accepted", note, np.vstack(work.pre_image),
                         tuple(work.curve_ids), created, removed, tuple(sorted(work.pulled)),
-                        tuple(work.ends), tuple(work.offsets), np.vstack(used)), work.misses
+                        tuple(work.ends), tuple(work.offsets), np.vstack(used),
+                        merged_curves=tuple(sorted({c for c, _, _ in work.merged}))), work.misses
 
 
 def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
@@ -186,7 +199,7 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
         # earlier one; then the whole stroke is taken as one straight piece instead.
         state = net.snapshot()
         marks = (len(work.ends), len(work.offsets), len(work.curve_ids), len(work.pre_image), set(work.pulled),
-                 len(work.misses))
+                 len(work.misses), len(work.merged))
         try:
             _insert_pieces(net, old, pts, start, end, [0] + breaks + [len(pts) - 1], index, tol, snap,
                            falloff, work)
@@ -194,7 +207,7 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
         except StrokeRunsAlongCurveError:
             net.restore(state)
             del work.ends[marks[0]:], work.offsets[marks[1]:], work.curve_ids[marks[2]:], work.pre_image[marks[3]:]
-            del work.misses[marks[5]:]
+            del work.misses[marks[5]:], work.merged[marks[6]:]
             work.pulled = marks[4]
     _insert_pieces(net, old, pts, start, end, [0, len(pts) - 1], index, tol, snap, falloff, work)
     return pts
@@ -216,7 +229,13 @@ def _insert_pieces(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start:
         work.offsets.extend([x.offset for x in (s, e)])
         cid = net.new_curve_id("stroke", index)
         work.curve_ids.append(cid)
-        pre_image, pulled, misses = insert_piece(net, old, piece, s, e, cid, tol, snap, falloff)
+        pre_image, pulled, misses, merged = insert_piece(net, old, piece, s, e, cid, tol, snap, falloff)
+        for curve, _, which in merged:
+            # only the stroke's own ends may stop at the node of a curve they retrace: the pieces
+            # between them meet at their break points
+            if (which == "first" and k > 0) or (which == "last" and k < len(bounds) - 2):
+                raise StrokeRunsAlongCurveError(f"its pre-image runs along curve {curve} near a node")
+        work.merged.extend(merged)
         work.pre_image.append(pre_image)
         work.pulled.update(pulled)
         work.misses.extend(misses)

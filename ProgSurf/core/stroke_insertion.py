@@ -92,15 +92,23 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
 
 
 def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatArray, crossings: list,
-                 snap: float) -> tuple[list[tuple[float, int]], set, list]:
+                 snap: float) -> tuple[list[tuple[float, int]], set, list, list]:
     """Step (4): the nodes along the line, (t, node id) in order, the ids of the interior
     curves pulled to the stroke (later strokes win): a crossed interior edge is split at the
-    stroke's point, a node the stroke goes through is moved onto it; and the misses: (stroke
-    point (3,), stroke point - curve point (3,)) where it crossed a curve made from a stroke."""
+    stroke's point, a node the stroke goes through is moved onto it; the misses: (stroke
+    point (3,), stroke point - curve point (3,)) where it crossed a curve made from a stroke; and
+    the ends merged into a curve they retrace (node_planning._plan_nodes): (curve id, fraction of
+    the pre-image line, "first" or "last")."""
     nodes: list[tuple[float, int]] = []
     pulled: set = set()
     misses: list = []
-    for tk, nid, eid, se_k in crossing_nodes(net, crossings, p0, line, snap):
+    plan = crossing_nodes(net, crossings, p0, line, snap)
+    merged = []
+    if plan and plan[0][0] > 1e-6:
+        merged.append((net.edges()[crossings[0][1]].curve_id, plan[0][0], "first"))
+    if plan and plan[-1][0] < 1.0 - 1e-6:
+        merged.append((net.edges()[crossings[-1][1]].curve_id, 1.0 - plan[-1][0], "last"))
+    for tk, nid, eid, se_k in plan:
         at_end = tk <= 1e-6 or tk >= 1 - 1e-6
         stroke_xyz = full.evaluate(tk)
         if nid < 0:
@@ -121,7 +129,7 @@ def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatA
         nodes.append((tk, nid))
     if len(nodes) < 2:
         raise StrokeRejectedError("its pre-image is shorter than the node spacing")
-    return nodes, pulled, misses
+    return nodes, pulled, misses, merged
 
 
 def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: list[tuple[float, int]],
@@ -151,17 +159,17 @@ def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: lis
 
 
 def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: StrokeEnd,
-                 curve_id: int, tol: Tolerances, snap: float, falloff: str) -> tuple[FloatArray, set, list]:
+                 curve_id: int, tol: Tolerances, snap: float, falloff: str) -> tuple[FloatArray, set, list, list]:
     """Steps (3)-(5) for one straight piece pts (n, 3) from start to end: extend, cross, pull,
     subdivide, rebuild, as curve curve_id. `old` is the network before the stroke. Returns the
-    pre-image line's ends (2, 2), the ids of the earlier curves pulled to the piece and its misses
-    of the stroke curves it crossed (_place_nodes)."""
+    pre-image line's ends (2, 2), the ids of the earlier curves pulled to the piece, its misses
+    of the stroke curves it crossed and its ends merged into a curve they retrace (_place_nodes)."""
     full, p0, p1 = _piece_curve(net, pts, start, end, tol, snap, falloff)
     line = p1 - p0
     crossings = line_crossings(net, p0, p1)
-    nodes, pulled, misses = _place_nodes(net, full, p0, line, crossings, snap)
+    nodes, pulled, misses, merged = _place_nodes(net, full, p0, line, crossings, snap)
     _add_chords(net, old, full, nodes, curve_id, tol.made_sag_mm)
-    return np.array([p0, p1]), pulled, misses
+    return np.array([p0, p1]), pulled, misses, merged
 
 
 def make_three_or_four_sided(net: PatchNetwork, old: PatchNetwork, rid: int, a: int, b: int,

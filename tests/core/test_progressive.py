@@ -50,9 +50,11 @@ def distance_to_polyline(q, pts):
 
 
 def stroke_deviation(net: PatchNetwork, record) -> float:
-    """Largest distance of the stroke's (trimmed) points from the network curves made from it:
-    these curves are sub-patch boundaries, so this is the stroke's distance from the surface."""
-    curves = [net.edges()[e].polyline.points for cid in record.curve_ids for e in net.curve_edges(cid)]
+    """Largest distance of the stroke's (trimmed) points from the network curves made from it, or
+    that an end of it was merged into: these curves are sub-patch boundaries, so this is the
+    stroke's distance from the surface."""
+    curves = [net.edges()[e].polyline.points for cid in record.curve_ids + record.merged_curves
+              for e in net.curve_edges(cid)]
     pts = np.concatenate(curves)
     return float(np.linalg.norm(record.points[:, None, :] - pts[None], axis=2).min(axis=1).max())
 
@@ -341,3 +343,25 @@ def test_random_stroke_sequences_keep_every_invariant(sketch):
             assert rec.reason
             assert state(net) == before
         check_invariants(net, rec, snap)
+
+
+def test_stroke_that_retraces_a_curve_at_one_end_stops_at_the_node_where_it_leaves_it():
+    """A stroke drawn along an earlier curve (under a millimetre from it, snap 2 mm) up to where
+    that curve ends on a third one, then on beyond it: going through that node would run along the
+    curve, and crossing beside it would leave a node 0.7 mm from it (under NODE_SPACING_UV). It was
+    rejected ("runs along curve 5 near a node", sketchgen's short diagonals drawn along an earlier
+    one); its retracing end is now merged into that curve: the stroke starts at the node, and the
+    rest of it is a curve of its own."""
+    net = flat_network()
+    for k, (p, q) in enumerate((((50, -0.5), (50, 100.5)), ((-0.5, -0.5), (50.5, 30.3)))):
+        assert add_stroke(net, line((*p, 0), (*q, 0)), 4 + k, TOL, snap=2.0).status == "accepted"
+    node = next(n for n in net.node_ids if np.allclose(net.node_uv(n), [0.5, 0.3], atol=0.01))
+    rec = add_stroke(net, line((20.0, 12.9, 0), (100.5, 58.25, 0), 40), 6, TOL, snap=2.0)
+    assert rec.status == "accepted", rec.reason
+    assert "retraces stroke 5 (curve 5)" in rec.reason
+    check_invariants(net, rec, 2.0)
+    ends = [n for e in net.edges().values() if e.curve_id == 6 for n in (e.node0, e.node1)]
+    assert node in ends and curves_at(net, node) == {4, 5, 6}
+    # nothing of the stroke lies along curve 4 before the node: its curve starts there
+    xs = [p[0] for e in net.edges().values() if e.curve_id == 6 for p in e.polyline.points]
+    assert min(xs) > 49.0
