@@ -307,20 +307,22 @@ def _withhold_folding(arrays, boundary, tol, candidates, continuity, result, she
 
 
 TIGHTEN_ROUNDS = 2
-"""Rounds of tighten_fit: each halves the edge-fit tolerance of the curves around a face still over
-the fit tolerance (0.5, 0.25, 0.125 of it: cad.edges.EDGE_FIT_FRACTION)."""
+"""Rounds of tighten_fit: the first fits the curves around a face still over the fit tolerance
+within their tolerance of the polyline's chords too (cad.edges.fit_edges(tight=): hug), the second
+at half that tolerance."""
 
 
 def tighten_fit(result, shell, analysis: Analysis, continuity: str, n_strokes: int) -> tuple:
     """(shell, analysis) with every face within the fit tolerance of its Coons sub-patch where
     TIGHTEN_ROUNDS allow: the curves around a face that lies further from its sub-patch than
-    tol.fit_mm are fitted again at half their tolerance, and the faces on them are rebuilt (the
-    others are reused). Each curve is fitted within half the tolerance at its polyline's vertices,
-    and a smooth curve leaves the polyline's chords by their sag between them, so a face bounded by
-    two sagging sides can end up past the tolerance (8 of 90 sketchgen sketches by 6-25 %, seed
-    base 67000) though every curve kept its own; a tighter fit of those sides leaves room for the
-    sag. The round with the smallest largest deviation is kept; its shell keeps the factors for
-    the next build (cad.build_shell(tight=))."""
+    tol.fit_mm are fitted again, and the faces on them are rebuilt (the others are reused). Each
+    curve is fitted within half the tolerance at its polyline's vertices, and a smooth curve may
+    leave the chords between them by their sag: a face bounded by two sagging sides ended up past
+    the tolerance (8 of 90 sketchgen sketches by 6-25 %, seed base 67000; 3 of 36 of our own)
+    though every curve kept its own. Fitted within the tolerance of the chords too, they are all
+    within it (a tighter tolerance at the vertices alone rang between them: 1.24 x). The round with
+    the smallest largest deviation is kept; its shell keeps the factors for the next build
+    (cad.build_shell(tight=))."""
     edges = result.network.edges()
     best = (shell, analysis)
     for _ in range(TIGHTEN_ROUNDS):
@@ -330,7 +332,7 @@ def tighten_fit(result, shell, analysis: Analysis, continuity: str, n_strokes: i
         curves = {edges[p.edge_id].curve_id for info in cad_analysis.g0_view(shell).faces
                   if info.region_id in over for pieces in info.sides for p in pieces}
         tight = dict(shell.tight)
-        tight.update({cid: tight.get(cid, 1.0) * 0.5 for cid in curves})
+        tight.update({cid: tight.get(cid, 2.0) * 0.5 for cid in curves})
         shell = cad_shell.build_shell(result.network, result.tol, continuity=continuity, previous=shell,
                                       tight=tight)
         analysis = measure(shell, result, n_strokes)

@@ -75,13 +75,15 @@ def collapsed(points: FloatArray) -> bool:
 
 
 def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dict | None = None,
-               name: str = "curve", breaks=(), derivs: dict | None = None, seed=(), best_effort: bool = False):
+               name: str = "curve", breaks=(), derivs: dict | None = None, seed=(), best_effort: bool = False,
+               hug: bool = False):
     """Fit one cubic B-spline C(t), t in [0,1], to points with their own parameters, within tol_mm
     at every point and passing EXACTLY through `fixed` {t: (3,) point} (the network nodes, ends
     included), and with the end derivatives `derivs` if given (core.curve_fit.fit_cubic). Two points
     (or all coincident) give a straight segment, unless end derivatives are asked for.
     Raises FitError when no cubic B-spline within tol_mm is found, unless best_effort (then the
-    closest fit the bounded refinement found: fit_cubic)."""
+    closest fit the bounded refinement found: fit_cubic). hug: within tol_mm of the chords too
+    (fit_cubic)."""
     prm = np.asarray(params, dtype=float)
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     fixed = dict(fixed or {})
@@ -94,19 +96,20 @@ def fit_points(params: FloatArray, points: FloatArray, tol_mm: float, fixed: dic
     if collapsed(np.vstack([pts, fp])) or (len(pts) == 2 and len(ft) == 2 and not derivs):
         return line_curve(fp[0], fp[-1])   # a straight edge, or a collapsed one (a triangle's apex side)
     knots, poles = fit_cubic(prm, pts, ft, fp, tol_mm, name=name, breaks=breaks, derivs=derivs, seed=seed,
-                             best_effort=best_effort)
+                             best_effort=best_effort, hug=hug)
     return bspline(knots, poles)
 
 
 def fit_polyline(polyline: Polyline, tol_mm: float, start: FloatArray | None = None,
-                 end: FloatArray | None = None, name: str = "edge", best_effort: bool = False):
+                 end: FloatArray | None = None, name: str = "edge", best_effort: bool = False,
+                 hug: bool = False):
     """fit_points for one polyline, with optional exact end points."""
     fixed = {}
     if start is not None:
         fixed[0.0] = np.asarray(start, dtype=float)
     if end is not None:
         fixed[1.0] = np.asarray(end, dtype=float)
-    return fit_points(polyline.params, polyline.points, tol_mm, fixed, name, best_effort=best_effort)
+    return fit_points(polyline.params, polyline.points, tol_mm, fixed, name, best_effort=best_effort, hug=hug)
 
 
 def unit_segment(curve, a: float, b: float):

@@ -91,12 +91,13 @@ def uv_length(e) -> float:
 
 
 def fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: dict | None = None,
-              seed=()) -> dict:
+              seed=(), hug: bool = False) -> dict:
     """Fit one network curve (a chain of edges) once, through all its nodes; cut it into the edges.
     The curve parameter is the cumulative pre-image (uv) length, which is how the network
     parametrises region sides, so the pieces re-join smoothly on a side.
     derivs: end derivatives the fit must have (see core.curve_fit.fit_cubic), for a part of a curve;
     seed: interior knots (curve parameter) to start the refinement from.
+    hug: within tol_mm of the polyline's chords too (core.curve_fit.fit_cubic).
     Returns edge id -> Part.BSplineCurve on [0, 1] (edge param 0 at node0)."""
     lengths = np.array([uv_length(e) for e, _ in chain])
     cum = np.concatenate([[0.0], np.cumsum(lengths)]) / lengths.sum()
@@ -111,7 +112,7 @@ def fit_curve(chain: list, nodes: dict, tol_mm: float, curve_id: int, derivs: di
     fixed[0.0], fixed[1.0] = fixed.pop(float(cum[0])), fixed.pop(float(cum[-1]))
     breaks = [float(cum[k]) for k in range(1, len(chain)) if kinked(*chain[k - 1], *chain[k])]
     curve = fit_points(np.concatenate(params), np.vstack(points), tol_mm, fixed, name=f"curve {curve_id}",
-                       breaks=breaks, derivs=derivs, seed=seed, best_effort=True)
+                       breaks=breaks, derivs=derivs, seed=seed, best_effort=True, hug=hug)
     out = {}
     for k, (e, rev) in enumerate(chain):
         piece = unit_segment(curve, float(cum[k]), float(cum[k + 1]))
@@ -154,7 +155,7 @@ def _chain_seed(chain: list, before: dict | None) -> list:
 
 
 def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept: dict,
-                   before: dict | None = None) -> dict:
+                   before: dict | None = None, hug: bool = False) -> dict:
     """A network curve of which only some edges changed (a later stroke split or pulled them):
     keep the fitted pieces of the unchanged edges (`kept`: edge id -> piece) and fit each run of
     changed edges alone, joining its unchanged neighbours C2 (C0 at a kink), so that only the
@@ -179,7 +180,7 @@ def _refit_changed(chain: list, nodes: dict, tol_mm: float, curve_id: int, kept:
         if j < n - 1 and not kinked(*chain[j], *chain[j + 1]):
             e, rev = chain[j + 1]
             derivs[1.0] = end_derivatives(kept[e.id], rev, False, run_length / uv_length(e))
-        out.update(fit_curve(run, nodes, tol_mm, curve_id, derivs, _chain_seed(run, before)))
+        out.update(fit_curve(run, nodes, tol_mm, curve_id, derivs, _chain_seed(run, before), hug))
         k = j + 1
     return out
 
@@ -234,8 +235,9 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
             whole object's boundary edges, pieces of the curves two surfaces share) and the points of
             their nodes; a network curve whose every edge is given takes them, the other curves are
             fitted through those node points.
-    tight : curve id -> factor (< 1) on its fit tolerance: curves of a face that came out further
-            from its sub-patch than the fit tolerance (app.build.tighten_fit)."""
+    tight : curve id -> factor on its fit tolerance, for curves of a face that came out further
+            from its sub-patch than the fit tolerance (app.build.tighten_fit): such a curve is also
+            fitted within that tolerance of its polyline's chords (fit_curve(hug=True))."""
     edges = network.edges()
     nodes = node_points(edges)
     given_curves, given_nodes = given if given is not None else ({}, {})
@@ -251,7 +253,8 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
     digests: dict = {}          # every live polyline's entry (each edge's is made or renewed below)
     for cid, group in by_curve.items():
         tol_mm = base_mm * tight.get(cid, 1.0)
-        ckey = (cid, tol_mm)
+        hug = cid in tight
+        ckey = (cid, tol_mm, hug)
         keys = {e.id: _edge_key(e, nodes, digests, lookup) for e in group}
         before = lookup("curves", ckey) or {}
         kept = {eid: before[k] for eid, k in keys.items() if k in before}
@@ -264,13 +267,13 @@ def fit_edges(network, tol: Tolerances, cache: "ShellCache | None" = None, stats
         else:
             chain = curve_chain(group)
             if chain is not None and kept:
-                piece = _refit_changed(chain, nodes, tol_mm, cid, kept, before)
+                piece = _refit_changed(chain, nodes, tol_mm, cid, kept, before, hug)
             elif chain is not None:      # a new curve, or one whose every edge changed
-                piece = fit_curve(chain, nodes, tol_mm, cid, seed=_chain_seed(chain, before))
+                piece = fit_curve(chain, nodes, tol_mm, cid, seed=_chain_seed(chain, before), hug=hug)
             else:
                 piece = {e.id: kept.get(e.id) or fit_polyline(e.polyline, tol_mm, start=nodes[e.node0],
                                                                end=nodes[e.node1], name=f"edge {e.id} (curve {cid})",
-                                                               best_effort=True)
+                                                               best_effort=True, hug=hug)
                          for e in group}
             fitted += 1
         fitted_curves[ckey] = {keys[eid]: c for eid, c in piece.items()}

@@ -204,7 +204,7 @@ knots per halving of its span until the curve hugs it (about 30 at 1e-4 of the s
 
 def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: FloatArray, tol: float,
               name: str = "curve", max_rounds: int = 40, breaks=(), derivs: dict | None = None,
-              seed=(), best_effort: bool = False) -> tuple[FloatArray, FloatArray]:
+              seed=(), best_effort: bool = False, hug: bool = False) -> tuple[FloatArray, FloatArray]:
     """Cubic B-spline C through fixed_p at fixed_t and within tol of the piecewise-linear polyline
     (t, pts) everywhere it is sampled (params in [0, 1]): the Coons sub-patch is built on that
     polyline, so the curve must follow it between the vertices too, within tol plus the chord's
@@ -217,6 +217,9 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
 
     seed   : interior knots to start from (e.g. those of an earlier fit of the same curve), so that
              refinement starts near where it will end.
+
+    hug    : within tol of the chords too, their sag not allowed (the curve follows the polyline's
+             corners: more knots; for a face that came out past the fit tolerance, app.build.tighten_fit)
 
     best_effort : when the refinement stops short of tol (max_rounds, the knot cap
              MAX_KNOTS_PER_VERTEX, or spans too short to split), return the fit on the last knots
@@ -237,7 +240,7 @@ def fit_cubic(t: FloatArray, pts: FloatArray, fixed_t: FloatArray, fixed_p: Floa
     if len(seed) and len(interior):
         seed = seed[np.min(np.abs(seed[:, None] - interior[None, :]), axis=1) > 1e-9]
     interior = np.sort(np.concatenate([interior, seed]))
-    sag = chord_sag(pts) if len(t) > 1 else np.zeros(1)
+    sag = chord_sag(pts) if len(t) > 1 and not hug else np.zeros(max(len(t) - 1, 1))
     max_knots = MAX_KNOTS_PER_VERTEX * len(t) + MAX_CORNER_KNOTS + DEGREE * len(breaks)
     last = None
     for _ in range(max_rounds):

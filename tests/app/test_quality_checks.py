@@ -70,8 +70,9 @@ def test_the_fold_check_reads_the_seams_the_report_reads():
 def test_a_face_over_the_fit_tolerance_has_its_curves_fitted_tighter(monkeypatch):
     """Two of the project's own sketches (a cylinder panel, an octant) each have a face 9-12 %
     further from its Coons sub-patch than the fit tolerance, their curves fitted at half of it
-    (cad.edges.EDGE_FIT_FRACTION) as usual; app.build.tighten_fit fits that face's curves tighter,
-    and every face is then within the tolerance itself, not only within its allowance."""
+    (cad.edges.EDGE_FIT_FRACTION) as usual; app.build.tighten_fit fits that face's curves within it
+    of their polylines' chords too, and every face is then within the tolerance itself, not only
+    within its allowance."""
     from benchmarks.sketches import make_config
     from ProgSurf.app import build
     from ProgSurf.core.types import Tolerances
@@ -85,6 +86,6 @@ def test_a_face_over_the_fit_tolerance_has_its_curves_fitted_tighter(monkeypatch
         fit = plain.analysis.fit_tolerance_mm
         assert plain.analysis.fit_deviation_mm > fit and not plain.shell.tight
         assert loose.analysis.fit_deviation_mm <= fit, (config, loose.analysis.fit_deviation_mm / fit)
-        assert loose.shell.tight and set(loose.shell.tight.values()) <= {0.5, 0.25}
+        assert loose.shell.tight and set(loose.shell.tight.values()) <= {1.0, 0.5}
         # the tightened faces are the same surface: the strokes' deviation hardly moves
         assert abs(max(loose.analysis.stroke_deviation_mm) - max(plain.analysis.stroke_deviation_mm)) < 2 * fit
