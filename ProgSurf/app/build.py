@@ -321,8 +321,8 @@ def tighten_fit(result, shell, analysis: Analysis, continuity: str, n_strokes: i
     the tolerance (8 of 90 sketchgen sketches by 6-25 %, seed base 67000; 3 of 36 of our own)
     though every curve kept its own. Fitted within the tolerance of the chords too, they are all
     within it (a tighter tolerance at the vertices alone rang between them: 1.24 x). The round with
-    the smallest largest deviation is kept; its shell keeps the factors for the next build
-    (cad.build_shell(tight=))."""
+    the smallest largest deviation and no more folds is kept; its shell keeps the factors for the
+    next build (cad.build_shell(tight=))."""
     edges = result.network.edges()
     best = (shell, analysis)
     for _ in range(TIGHTEN_ROUNDS):
@@ -336,9 +336,11 @@ def tighten_fit(result, shell, analysis: Analysis, continuity: str, n_strokes: i
         shell = cad_shell.build_shell(result.network, result.tol, continuity=continuity, previous=shell,
                                       tight=tight)
         analysis = measure(shell, result, n_strokes)
-        if analysis.fit_deviation_mm < best[1].fit_deviation_mm:
+        # (a tighter fit can ring between the vertices of a sagging polyline, and a curve that
+        # hugs its polyline's corners could crease a face: the closest round without a fold more)
+        if (analysis.fit_deviation_mm < best[1].fit_deviation_mm
+                and len(analysis.folds) <= len(best[1].folds)):
             best = (shell, analysis)
-    # (a tighter fit can ring between the vertices of a sagging polyline: the best round is kept)
     return best
 
 
