@@ -15,7 +15,7 @@ One sample rule for every caller:
 - stroke deviation: every point of each accepted stroke (a largest distance is a maximum: samples
   could only miss it);
 - fit deviation: an n x n grid of each face's parameter square, n = FIT_GRID;
-- seams: SEAM_SAMPLES points along every edge shared by two faces.
+- seams: cad.analysis.SEAM_SAMPLES points along every edge shared by two faces.
 """
 from __future__ import annotations
 
@@ -40,10 +40,6 @@ if TYPE_CHECKING:
 
 FIT_GRID = 21
 """Samples per side of the grid on which a face is compared with its Coons sub-patch."""
-
-SEAM_SAMPLES = cad_analysis.SEAM_SAMPLES
-"""Points along a shared edge at which the gap and the normal angle of its two faces are measured."""
-
 
 @dataclass(frozen=True)
 class ReportMeasures:
@@ -209,7 +205,8 @@ def _report_measures(shell, network) -> ReportMeasures:
 def measure(shell, result, n_strokes: int, report: bool = False) -> Analysis:
     """Seam gap and angle (cad.analysis.seam_stats), fit and stroke deviations of a ShellResult
     built from `result`'s network, by the module's sample rule; with report, ReportMeasures too."""
-    seams = tuple(cad_analysis.seam_stats(shell, samples=SEAM_SAMPLES))
+    # (at cad.analysis.SEAM_SAMPLES: the samples the fold check reads, kept with the faces)
+    seams = tuple(cad_analysis.seam_stats(shell))
     # the fit is that of the exact Coons faces: in G1 mode of the G0 faces the G1 faces were made
     # from (G1 then moves a face by at most cad.g1.OFFSET_FRACTION of the diagonal, on purpose)
     fitted = cad_analysis.g0_view(shell)
@@ -331,8 +328,8 @@ def tighten_fit(result, shell, analysis: Analysis, continuity: str, n_strokes: i
             break
         curves = {edges[p.edge_id].curve_id for info in cad_analysis.g0_view(shell).faces
                   if info.region_id in over for pieces in info.sides for p in pieces}
-        tight = dict(shell.tight)
-        tight.update({cid: tight.get(cid, 2.0) * 0.5 for cid in curves})
+        tight = dict(shell.tight)    # first round: the same tolerance, hugging; then half of it
+        tight.update({cid: 0.5 * tight[cid] if cid in tight else 1.0 for cid in curves})
         shell = cad_shell.build_shell(result.network, result.tol, continuity=continuity, previous=shell,
                                       tight=tight)
         analysis = measure(shell, result, n_strokes)

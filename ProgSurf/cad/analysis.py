@@ -104,9 +104,10 @@ SEAM_END = 0.04
 """The seam angles leave out this fraction of a seam at each end (issue 16: a fold is two normals
 that differ "along their shared edge, away from its ends"; sketchgen's run_family reads 5 % to 95 %
 of the edge's own parameter, which is not quite the face's, hence a little more here: a tuck at
-95 % of a seam next to an apex read 92 deg there and was missed at 94 %). At a 3-sided face's collapsed corner the derivative along the collapsed side is 1e-17 to
-1e-12 of the other, so its normal there points wherever the round-off does: sampled at the ends,
-seams that end at an apex read 170-180 deg on sketches with no fold at all."""
+95 % of a seam next to an apex read 92 deg there and was missed at 94 %). At a 3-sided face's
+collapsed corner the derivative along the collapsed side is 1e-17 to 1e-12 of the other, so its
+normal there points wherever the round-off does: sampled at the ends, seams that end at an apex
+read 170-180 deg on sketches with no fold at all."""
 
 
 def _away_from_ends(angles: FloatArray) -> FloatArray:
@@ -431,8 +432,8 @@ def folds(result) -> list[Fold]:
 
 def folds_and_seam_max_deg(result) -> tuple[list[Fold], float]:
     """(folds(result), the largest angle (deg) between two faces' normals along any of its seams
-    between 5 % and 95 % of the seam, sharp edges drawn on purpose included; 0 with no seam where
-    the normals are defined), the seams sampled once for both."""
+    between SEAM_END and 1 - SEAM_END of the seam, sharp edges drawn on purpose included; 0 with no
+    seam where the normals are defined), the seams sampled once for both."""
     seams = _inner_seam_angles(result.faces)
     sharp = set(getattr(result, "sharp_edges", ()) or ())
     found = _folds(result.faces, [seam for seam in seams if seam[0] not in sharp])
@@ -441,7 +442,8 @@ def folds_and_seam_max_deg(result) -> tuple[list[Fold], float]:
 
 def face_folds(faces, sharp_edges=()) -> list[Fold]:
     """Every fold among FaceInfos: seams whose faces' normals differ by more than FOLD_SEAM_DEG
-    between 5 % and 95 % of the seam (seams kept sharp on purpose, sharp_edges, excepted), and
+    between SEAM_END and 1 - SEAM_END of the seam (seams kept sharp on purpose, sharp_edges,
+    excepted), and
     faces whose normal turns by more than FOLD_FACE_DEG inside them (from their mean normal, or
     between two normals closer than TUCK_REACH of the diagonal of all the faces)."""
     return _folds(faces, _inner_seam_angles(faces, sharp_edges))

@@ -71,7 +71,7 @@ def line_crossings(net: PatchNetwork, p0: FloatArray, p1: FloatArray) -> list[Cr
 
 
 def crossing_nodes(net: PatchNetwork, crossings: list[Crossing], p0: FloatArray, line: FloatArray,
-                   snap: float) -> list[PlannedNode]:
+                   snap: float, merge_ends: tuple = (False, False)) -> list[PlannedNode]:
     """Where the pre-image line p0 + t * line meets the network, decided before anything changes.
 
     crossings : (t along the line, edge id, s along the edge), in order along the line
@@ -82,7 +82,9 @@ def crossing_nodes(net: PatchNetwork, crossings: list[Crossing], p0: FloatArray,
     them, or they are out of order along the line), one of them is not used: the one whose
     crossings then leave the wider node spacing, if that is at least NODE_SPACING_UV. Otherwise
     the stroke is rejected, as it would leave a sliver region; unless it only runs along a curve
-    at an end, which then stops at the node where it leaves that curve (_plan_nodes(merge_ends=))."""
+    at an end that merge_ends (first, last) allows to merge, which then stops at the node where it
+    leaves that curve (_plan_nodes(merge_ends=)): the stroke's own ends, not the break points where
+    its straight pieces meet."""
     edges = net.edges()
     near: dict[int, tuple[float, int]] = {}          # edge id -> (distance, end node) within reach
     for tk, eid, se in crossings:
@@ -106,8 +108,8 @@ def crossing_nodes(net: PatchNetwork, crossings: list[Crossing], p0: FloatArray,
                    for n in sorted(clash - exact)]     # (spacing without node n, n)
         gap, drop = max(options, default=(0.0, -1))
         if gap < NODE_SPACING_UV:
-            if isinstance(error, StrokeRunsAlongCurveError):
-                plan, _, merged_error = _plan_nodes(net, edges, crossings, near, p0, line, merge_ends=True)
+            if isinstance(error, StrokeRunsAlongCurveError) and any(merge_ends):
+                plan, _, merged_error = _plan_nodes(net, edges, crossings, near, p0, line, merge_ends)
                 if merged_error is None:
                     return plan
             raise error
@@ -115,7 +117,8 @@ def crossing_nodes(net: PatchNetwork, crossings: list[Crossing], p0: FloatArray,
 
 
 def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0: FloatArray,
-                line: FloatArray, merge_ends: bool = False) -> tuple[list, set, Optional[StrokeRejectedError]]:
+                line: FloatArray,
+                merge_ends: tuple = (False, False)) -> tuple[list, set, Optional[StrokeRejectedError]]:
     """One plan for :func:`crossing_nodes` in which the existing nodes ``near`` (edge id ->
     (distance, node)) are used by their crossings. The stroke then passes through each such node,
     so every crossing of an edge ending there is that node too (a straight piece from the node
@@ -123,8 +126,8 @@ def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0:
     pre-image leaves the line by less than NODE_SNAP_UV there, and every region stays convex: the
     node already has curves on both sides of any line through it. Returns (plan, set(), None), or
     (the plan so far, the used nodes that clash, the error that rejects the stroke if no other
-    plan is found). merge_ends: an end of the line that runs along a curve into a used node stops
-    at that node (the last resort of crossing_nodes before rejecting the stroke)."""
+    plan is found). merge_ends (first, last): such an end of the line that runs along a curve into
+    a used node stops at that node (the last resort of crossing_nodes before rejecting the stroke)."""
     via = {node for _, node in near.values()}
     plan: list[tuple[float, int, int, float]] = []
     for tk, eid, se in crossings:
@@ -165,16 +168,18 @@ def _plan_nodes(net: PatchNetwork, edges: dict, crossings: list, near: dict, p0:
             # that curve (an over-sketch of it, within the snap distance at both ends): the stroke
             # starts, or ends, at that node instead of being rejected (sketchgen: a short diagonal
             # drawn along an earlier one from near the corner to the middle).
-            # (On along the curve, node by node, while it keeps retracing it.)
-            if merge_ends and len(plan) > 2 and k == 0 and ((na < 0 and ta <= 1e-6) or trimmed[0] == edges[along].curve_id):
-                plan, trimmed = plan[1:], (edges[along].curve_id, trimmed[1])
+            # (Node by node, while it keeps retracing the same curve.)
+            curve = edges[along].curve_id
+            if (merge_ends[0] and len(plan) > 2 and k == 0
+                    and ((na < 0 and ta <= 1e-6) or trimmed[0] == curve)):
+                plan, trimmed = plan[1:], (curve, trimmed[1])
                 continue
-            if (merge_ends and len(plan) > 2 and k == len(plan) - 2
-                    and ((nb < 0 and tb >= 1.0 - 1e-6) or trimmed[1] == edges[along].curve_id)):
-                plan, trimmed = plan[:-1], (trimmed[0], edges[along].curve_id)
+            if (merge_ends[1] and len(plan) > 2 and k == len(plan) - 2
+                    and ((nb < 0 and tb >= 1.0 - 1e-6) or trimmed[1] == curve)):
+                plan, trimmed = plan[:-1], (trimmed[0], curve)
                 continue
             return plan, {na, nb} & via, StrokeRunsAlongCurveError(
-                f"its pre-image runs along curve {edges[along].curve_id} near a node")
+                f"its pre-image runs along curve {curve} near a node")
         k += 1
     return plan, set(), None
 

@@ -229,12 +229,10 @@ def _insert_pieces(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start:
         work.offsets.extend([x.offset for x in (s, e)])
         cid = net.new_curve_id("stroke", index)
         work.curve_ids.append(cid)
-        pre_image, pulled, misses, merged = insert_piece(net, old, piece, s, e, cid, tol, snap, falloff)
-        for curve, _, which in merged:
-            # only the stroke's own ends may stop at the node of a curve they retrace: the pieces
-            # between them meet at their break points
-            if (which == "first" and k > 0) or (which == "last" and k < len(bounds) - 2):
-                raise StrokeRunsAlongCurveError(f"its pre-image runs along curve {curve} near a node")
+        # only the stroke's own ends may stop at the node of a curve they retrace: its pieces meet
+        # at their break points
+        pre_image, pulled, misses, merged = insert_piece(net, old, piece, s, e, cid, tol, snap, falloff,
+                                                         merge_ends=(k == 0, k == len(bounds) - 2))
         work.merged.extend(merged)
         work.pre_image.append(pre_image)
         work.pulled.update(pulled)

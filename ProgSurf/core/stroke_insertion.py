@@ -92,17 +92,18 @@ def _piece_curve(net: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: Stro
 
 
 def _place_nodes(net: PatchNetwork, full: Polyline, p0: FloatArray, line: FloatArray, crossings: list,
-                 snap: float) -> tuple[list[tuple[float, int]], set, list, list]:
+                 snap: float,
+                 merge_ends: tuple = (False, False)) -> tuple[list[tuple[float, int]], set, list, list]:
     """Step (4): the nodes along the line, (t, node id) in order, the ids of the interior
     curves pulled to the stroke (later strokes win): a crossed interior edge is split at the
     stroke's point, a node the stroke goes through is moved onto it; the misses: (stroke
     point (3,), stroke point - curve point (3,)) where it crossed a curve made from a stroke; and
-    the ends merged into a curve they retrace (node_planning._plan_nodes): (curve id, fraction of
-    the pre-image line, "first" or "last")."""
+    the ends merged into a curve they retrace (node_planning._plan_nodes, where merge_ends (first,
+    last) allows it): (curve id, fraction of the pre-image line, "first" or "last")."""
     nodes: list[tuple[float, int]] = []
     pulled: set = set()
     misses: list = []
-    plan = crossing_nodes(net, crossings, p0, line, snap)
+    plan = crossing_nodes(net, crossings, p0, line, snap, merge_ends)
     merged = []
     if plan and plan[0][0] > 1e-6:
         merged.append((net.edges()[crossings[0][1]].curve_id, plan[0][0], "first"))
@@ -159,15 +160,17 @@ def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: lis
 
 
 def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: StrokeEnd,
-                 curve_id: int, tol: Tolerances, snap: float, falloff: str) -> tuple[FloatArray, set, list, list]:
+                 curve_id: int, tol: Tolerances, snap: float, falloff: str,
+                 merge_ends: tuple = (False, False)) -> tuple[FloatArray, set, list, list]:
     """Steps (3)-(5) for one straight piece pts (n, 3) from start to end: extend, cross, pull,
     subdivide, rebuild, as curve curve_id. `old` is the network before the stroke. Returns the
     pre-image line's ends (2, 2), the ids of the earlier curves pulled to the piece, its misses
-    of the stroke curves it crossed and its ends merged into a curve they retrace (_place_nodes)."""
+    of the stroke curves it crossed and its ends merged into a curve they retrace (_place_nodes;
+    merge_ends (first, last): which ends may be)."""
     full, p0, p1 = _piece_curve(net, pts, start, end, tol, snap, falloff)
     line = p1 - p0
     crossings = line_crossings(net, p0, p1)
-    nodes, pulled, misses, merged = _place_nodes(net, full, p0, line, crossings, snap)
+    nodes, pulled, misses, merged = _place_nodes(net, full, p0, line, crossings, snap, merge_ends)
     _add_chords(net, old, full, nodes, curve_id, tol.made_sag_mm)
     return np.array([p0, p1]), pulled, misses, merged
 
