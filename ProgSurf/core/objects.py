@@ -194,9 +194,12 @@ def surface_key(sides: list, interior: list, tol: Tolerances) -> bytes:
     return content_key(repr(tol), f"{len(sides)} sides", *sides, f"{len(interior)} interior", *interior)
 
 
-def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache] = None) -> list:
-    """Each filtered stroke faired once (core.fairing), as the pipeline fairs an interior stroke."""
-    out = []
+def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache] = None) -> tuple[list, list]:
+    """Each filtered stroke faired once (core.fairing), as the pipeline fairs an interior stroke:
+    (faired points per stroke, and per stroke the index in its faired points of each filtered
+    point: where the fit put that point, which maps the graph's arc lengths onto the faired
+    stroke, _stroke_arcs)."""
+    out, origins = [], []
     params = repr((tol.fit_mm, tol.fair_mm, tol.snap_mm, tol.sag_mm))
     for pts in filtered:
         key = content_key(params, pts) if cache is not None else None
@@ -204,24 +207,41 @@ def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache]
         if done is None:
             pts = round_points(pts, tol.fit_mm)
             ftol = stroke_tolerance(pts, tol.fair_mm, tol.snap_mm)
-            done = fair_stroke(pts, ftol, tol.sag_mm)[0] if len(pts) >= 2 else pts
+            at: list = []
+            done = ((fair_stroke(pts, ftol, tol.sag_mm, original_at=at)[0], np.asarray(at, dtype=int))
+                    if len(pts) >= 2 else (pts, np.arange(len(pts))))
         if cache is not None:
             cache.store("faired", key, done)
-        out.append(done)
-    return out
+        out.append(done[0])
+        origins.append(done[1])
+    return out, origins
 
 
-def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
-    """edge id -> its points cut from the faired stroke (arc lengths scaled from the filtered
-    stroke's), ends replaced by its nodes' points on the faired strokes (faired_nodes) exactly, and
-    no stroke point left within half the stroke's median chord of them."""
-    arcs = _stroke_arcs(graph, faired)
-    nodes = faired_nodes(graph, faired, arcs)
+def edge_polylines(graph: StrokeGraph, faired: list, origins: Optional[list] = None) -> dict:
+    """edge id -> its points cut from the faired stroke (the graph's arc lengths carried onto it,
+    _stroke_arcs), ends replaced by its nodes' points on the faired strokes (faired_nodes) exactly,
+    and no stroke point left within half the stroke's median chord of them. origins: per stroke,
+    the index in its faired points of each filtered point (_faired_strokes); None when each faired
+    stroke has the filtered stroke's points, moved."""
+    arcs = _stroke_arcs(graph, faired, origins)
+    nodes = faired_nodes(graph, faired, origins, arcs)
     out = {}
     for e in graph.edges:
         src = faired[e.stroke]
-        scale, cum = arcs[e.stroke]
-        inner = src[(cum > e.s0 * scale) & (cum < e.s1 * scale)]
+        to_faired, cum = arcs[e.stroke]
+        a, b = float(to_faired(e.s0)), float(to_faired(e.s1))
+        keep = (cum > a) & (cum < b)
+        inner = src[keep]
+        if len(inner) and b > a:
+            # the faired stroke passes its nodes at some distance (each node is the mean of the
+            # strokes there): that offset is spread along the edge, the whole of it at its node
+            # and none at the other end, with no slope at either, so that the edge leaves its node
+            # in its stroke's own direction instead of jumping to it in one segment (a hook that
+            # turned the Coons patches of noisy loops over at their corners)
+            t = ((cum[keep] - a) / (b - a))[:, None]
+            fade = 1.0 - t * t * (3.0 - 2.0 * t)
+            inner = (inner + fade * (nodes[e.node0] - point_at_length(src, a, cum))
+                     + (1.0 - fade) * (nodes[e.node1] - point_at_length(src, b, cum)))
         if len(inner) and len(cum) > 1:
             # no stroke point within half a chord of a node: the node lies beside the stroke (the
             # mean of the strokes crossing there), and a stroke point just past it made a first
@@ -237,19 +257,36 @@ def edge_polylines(graph: StrokeGraph, faired: list) -> dict:
     return out
 
 
-def _stroke_arcs(graph: StrokeGraph, faired: list) -> dict:
-    """stroke index -> (the faired stroke's length over the filtered one's, by which the graph's arc
-    lengths are scaled onto it; its cumulative_length), once per stroke that has an edge."""
+def _stroke_arcs(graph: StrokeGraph, faired: list, origins: Optional[list] = None) -> dict:
+    """stroke index -> (a map of arc length along the filtered stroke, the graph's s0/s1, to arc
+    length along the faired one; the faired stroke's cumulative_length), once per stroke that has
+    an edge.
+
+    The map runs through the filtered points' own places on the faired stroke (origins: where the
+    fit put each of them), piecewise linear between them. Scaling the arc length by the two
+    lengths' ratio instead put the edges' ends hundreds of mm from their nodes on a noisy stroke
+    whose zigzag is denser in some parts than others (TiGL fuselage1 noisy: the filtered stroke
+    up to twice the faired one's length, unevenly), and the surfaces' sides then ran past their
+    corners and back: most of its loops' Coons patches turned over."""
     out = {}
     for i in {e.stroke for e in graph.edges}:
         src = faired[i]
-        out[i] = (chord_length(src) / max(chord_length(graph.strokes[i]), 1e-300), cumulative_length(src))
+        cum = cumulative_length(src)
+        filtered_cum = cumulative_length(graph.strokes[i])
+        at = np.arange(len(src)) if origins is None else np.asarray(origins[i], dtype=int)
+        if len(at) != len(filtered_cum) or len(at) < 2:
+            ratio = cum[-1] / max(filtered_cum[-1], 1e-300)
+            out[i] = (lambda s, r=ratio: s * r, cum)
+            continue
+        knots = np.maximum.accumulate(cum[at])
+        out[i] = (lambda s, x=filtered_cum, y=knots: np.interp(s, x, y), cum)
     return out
 
 
-def faired_nodes(graph: StrokeGraph, faired: list, arcs: Optional[dict] = None) -> dict:
+def faired_nodes(graph: StrokeGraph, faired: list, origins: Optional[list] = None,
+                 arcs: Optional[dict] = None) -> dict:
     """node id -> (3,) its point on the faired strokes: the mean of the faired strokes' points at the
-    places its edges end (each stroke and arc length once; arc lengths scaled as in
+    places its edges end (each stroke and arc length once; arc lengths carried over as in
     edge_polylines), as the graph's node is the mean of the filtered strokes' points there.
 
     Why: fairing moves a stroke by up to the fairing tolerance, so an edge cut to the filtered
@@ -258,13 +295,13 @@ def faired_nodes(graph: StrokeGraph, faired: list, arcs: Optional[dict] = None) 
     kink its curve fit could not follow. Two strokes crossing now meet at the middle of their
     faired points, each edge's jump half their separation there. arcs: _stroke_arcs, when the
     caller has them."""
-    arcs = _stroke_arcs(graph, faired) if arcs is None else arcs
+    arcs = _stroke_arcs(graph, faired, origins) if arcs is None else arcs
     on: dict = {}
     for e in graph.edges:
         src = faired[e.stroke]
-        scale, cum = arcs[e.stroke]
+        to_faired, cum = arcs[e.stroke]
         for node, s in ((e.node0, e.s0), (e.node1, e.s1)):
-            on.setdefault(node, {}).setdefault((e.stroke, s), point_at_length(src, s * scale, cum))
+            on.setdefault(node, {}).setdefault((e.stroke, s), point_at_length(src, float(to_faired(s)), cum))
     return {node: np.mean(list(points.values()), axis=0) for node, points in on.items()}
 
 
@@ -412,8 +449,8 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     if cache is not None:
         cache.start()
     graph, choice, tol = network if network is not None else stroke_network(strokes, tol)
-    faired = _faired_strokes(list(graph.strokes), tol, cache)
-    polylines = edge_polylines(graph, faired)
+    faired, origins = _faired_strokes(list(graph.strokes), tol, cache)
+    polylines = edge_polylines(graph, faired, origins)
     timings["graph"] = time.perf_counter() - clock
     if not choice.cycles:
         raise ProgSurfError(

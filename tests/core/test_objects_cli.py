@@ -172,19 +172,20 @@ def test_the_clean_fuselage_passes_every_check():
 CAR = DATA / "cassie" / "vintage_car.xyz"
 
 
-@pytest.mark.skipif(not CAR.is_file(), reason=f"shared sketch {CAR} not found")
+@pytest.mark.skipif(not HELIBODY.is_file(), reason=f"shared sketch {HELIBODY} not found")
 def test_creases_between_surfaces_that_no_stroke_draws_are_reported():
-    """vintage_car (CASSIE): some of its rough neighbouring loops fold onto each other along the
-    strokes they share, where the strokes at the ends make them meet at under 65 deg. The verdict
-    names them and the report lists each with the stroke it runs along
-    (cad.object_g1.across_folds); the exact tapered tube and the cube have none (test_objects)."""
+    """helibody noisy (TiGL, hand-like noise): some of its neighbouring loops fold onto each other
+    along the strokes they share, where the strokes at the ends make them meet at under 65 deg.
+    The verdict names them and the report lists each with the stroke it runs along
+    (cad.object_g1.across_folds); the exact tapered tube and the cube have none (test_objects).
+    (vintage_car had 10 such creases while edges jumped to their nodes in one segment, none since.)"""
     from ProgSurf.app.objects import build_object_and_measure, object_report
     from ProgSurf.cad.object_g1 import FOLD_RISE_DEG
     from ProgSurf.io import read_strokes
 
-    out = build_object_and_measure(read_strokes(CAR))
+    out = build_object_and_measure(read_strokes(HELIBODY))
     found = out.model.folds_across
-    assert len(found) >= 5
+    assert len(found) >= 2
     assert all(f["angle_deg"] > f["ends_deg"] + FOLD_RISE_DEG for f in found)
     assert any("crease(s) between surfaces" in p for p in out.problems)
     listed = object_report(out)["folds_across_surfaces"]
