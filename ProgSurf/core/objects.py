@@ -35,6 +35,21 @@ from .stroke_graph import StrokeGraph, build_stroke_graph
 from .strokes import chord_length, cumulative_length, filter_stroke, point_at_length, round_points, validate_stroke
 from .types import FloatArray, Tolerances
 
+EASE_REACH = 0.1
+"""An edge whose first segment leaves its node more than EASE_DEG off the chord to its point this
+share of its length along (a curl or hook at its end: a VR stroke overshooting its corner, a noisy
+stroke's end faired into a loop) ...
+
+The side of a Coons patch with Hermite blends has, as its cross-boundary derivative all along it,
+the blend of its two neighbouring sides' end tangents: a curl of a millimetre at a side's end
+turned the patch over along a whole strip of each neighbouring side (CASSIE 02-0-2, the noisy
+TiGL fuselage)."""
+
+EASE_DEG = 30.0
+"""... gets that share replaced by a cubic from its node along that chord to the point there, in
+the edge's own direction at that point (a circular arc's end leaves it by half its turn over
+EASE_REACH: 9 deg for a half circle)."""
+
 INSIDE_FRACTION = 0.6
 """A dangling piece is an interior stroke of the surface whose loop holds at least this fraction
 of its points (in the loop's best-fit plane) ..."""
@@ -253,8 +268,42 @@ def edge_polylines(graph: StrokeGraph, faired: list, origins: Optional[list] = N
         pts = np.vstack([nodes[e.node0], inner, nodes[e.node1]])
         if len(pts) == 2:
             pts = point_at_length(pts, np.linspace(0.0, chord_length(pts), 3))
-        out[e.id] = pts
+        out[e.id] = _eased(_eased(pts)[::-1])[::-1]
     return out
+
+
+def _unit(v: FloatArray) -> Optional[FloatArray]:
+    n = float(np.linalg.norm(v))
+    return v / n if n > 0 else None
+
+
+def _eased(pts: FloatArray) -> FloatArray:
+    """An edge's polyline with a curl or hook at its start eased away (EASE_REACH, EASE_DEG): the
+    points before EASE_REACH of its length replaced by a cubic Hermite arc from its start (tangent
+    along the chord) to the point there (the polyline's tangent there), as many points as they were
+    (at least 4). The start point itself, the node, is kept exactly."""
+    cum = cumulative_length(pts)
+    total = float(cum[-1])
+    if len(pts) < 3 or not total > 0:
+        return pts
+    reach = EASE_REACH * total
+    at = point_at_length(pts, reach, cum)
+    first = _unit(pts[1] - pts[0])
+    chord = _unit(at - pts[0])
+    if first is None or chord is None:
+        return pts
+    if np.degrees(np.arccos(min(max(float(first @ chord), -1.0), 1.0))) <= EASE_DEG:
+        return pts
+    h = 0.5 * reach
+    tangent = _unit(point_at_length(pts, reach + h, cum) - point_at_length(pts, reach - h, cum))
+    if tangent is None:
+        return pts
+    k = max(int(np.count_nonzero(cum < reach)), 4)
+    t = np.linspace(0.0, 1.0, k + 1)[:-1, None]
+    span = float(np.linalg.norm(at - pts[0]))
+    arc = ((2 * t ** 3 - 3 * t ** 2 + 1) * pts[0] + (t ** 3 - 2 * t ** 2 + t) * span * chord
+           + (-2 * t ** 3 + 3 * t ** 2) * at + (t ** 3 - t ** 2) * span * tangent)
+    return np.vstack([arc, at, pts[cum > reach]])
 
 
 def _stroke_arcs(graph: StrokeGraph, faired: list, origins: Optional[list] = None) -> dict:

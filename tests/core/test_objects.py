@@ -163,6 +163,30 @@ def test_edges_are_cut_where_the_fit_put_their_nodes_on_an_unevenly_noisy_stroke
         assert np.linalg.norm(p - [40.0, 0.0, 0.0]) < 0.5, p
 
 
+def test_a_hook_at_an_edges_end_is_eased_so_that_the_coons_patch_does_not_turn_over():
+    """A flat 100 mm square whose second side leaves its corner with a hook 1 mm long, back and
+    outwards (a VR stroke overshooting its corner): the Hermite-blended Coons patch takes that side's
+    end tangent as its cross-boundary derivative along the whole first side, and turns over
+    (180 deg). core.objects._eased replaces the hooked tenth of the side by a cubic along its chord:
+    the patch is flat again, the corner itself kept exactly; a half circle (its end 9 deg off its
+    chord to a tenth along it) is left as it is."""
+    from ProgSurf.core.loop_corners import patch_turn_deg
+    from ProgSurf.core.objects import _eased
+
+    t = np.linspace(0.0, 1.0, 41)[:, None]
+    c = np.array([[0, 0, 0], [100, 0, 0], [100, 100, 0], [0, 100, 0]], float)
+    sides = [c[k] + t * (c[(k + 1) % 4] - c[k]) for k in range(4)]
+    sides[1] = np.vstack([sides[1][:1], [[99.0, -0.8, 0.0]], sides[1][1:]])
+    assert patch_turn_deg(sides, 15.0) > 170.0
+    eased = [_eased(side) for side in sides]
+    assert patch_turn_deg(eased, 15.0) < 1.0
+    assert np.array_equal(eased[1][0], c[1]) and np.abs(eased[1][:, 0] - 100.0).max() < 1e-9
+    assert all(np.array_equal(a, b) for a, b in zip(eased[::2], sides[::2]))
+    th = np.linspace(0.0, np.pi, 60)
+    arc = 50.0 * np.c_[np.cos(th), np.sin(th), 0 * th]
+    assert np.array_equal(_eased(arc), arc) and np.array_equal(_eased(arc[::-1]), arc[::-1])
+
+
 def test_cylinder_rims_and_rulings_give_a_tube_closed_around():
     out = build_object_and_measure(cylinder())
     assert len(out.model.shells) == 1
