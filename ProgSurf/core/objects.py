@@ -35,20 +35,21 @@ from .stroke_graph import StrokeGraph, build_stroke_graph
 from .strokes import chord_length, cumulative_length, filter_stroke, point_at_length, round_points, validate_stroke
 from .types import FloatArray, Tolerances
 
-EASE_REACH = 0.1
+EASE_REACHES = (0.1, 0.2)
 """An edge whose first segment leaves its node more than EASE_DEG off the chord to its point this
-share of its length along (a curl or hook at its end: a VR stroke overshooting its corner, a noisy
-stroke's end faired into a loop) ...
+share of its length along (the shorter reach first: a curl or hook at its end, a VR stroke
+overshooting its corner, a noisy stroke's end faired into a loop; a hook longer than a tenth
+leaves the first chord aligned with it, the second not) ...
 
 The side of a Coons patch with Hermite blends has, as its cross-boundary derivative all along it,
 the blend of its two neighbouring sides' end tangents: a curl of a millimetre at a side's end
 turned the patch over along a whole strip of each neighbouring side (CASSIE 02-0-2, the noisy
-TiGL fuselage)."""
+TiGL fuselage, where one side of 1.8 m hooked back over its first 200 mm)."""
 
 EASE_DEG = 30.0
 """... gets that share replaced by a cubic from its node along that chord to the point there, in
-the edge's own direction at that point (a circular arc's end leaves it by half its turn over
-EASE_REACH: 9 deg for a half circle)."""
+the edge's own direction at that point (a circular arc's end leaves the chord by half its turn
+over that share: 18 deg for a half circle over a fifth of it)."""
 
 INSIDE_FRACTION = 0.6
 """A dangling piece is an interior stroke of the surface whose loop holds at least this fraction
@@ -278,21 +279,24 @@ def _unit(v: FloatArray) -> Optional[FloatArray]:
 
 
 def _eased(pts: FloatArray) -> FloatArray:
-    """An edge's polyline with a curl or hook at its start eased away (EASE_REACH, EASE_DEG): the
-    points before EASE_REACH of its length replaced by a cubic Hermite arc from its start (tangent
+    """An edge's polyline with a curl or hook at its start eased away (EASE_REACHES, EASE_DEG): the
+    points before that share of its length replaced by a cubic Hermite arc from its start (tangent
     along the chord) to the point there (the polyline's tangent there), as many points as they were
     (at least 4). The start point itself, the node, is kept exactly."""
     cum = cumulative_length(pts)
     total = float(cum[-1])
     if len(pts) < 3 or not total > 0:
         return pts
-    reach = EASE_REACH * total
-    at = point_at_length(pts, reach, cum)
     first = _unit(pts[1] - pts[0])
-    chord = _unit(at - pts[0])
-    if first is None or chord is None:
+    if first is None:
         return pts
-    if np.degrees(np.arccos(min(max(float(first @ chord), -1.0), 1.0))) <= EASE_DEG:
+    for share in EASE_REACHES:
+        reach = share * total
+        at = point_at_length(pts, reach, cum)
+        chord = _unit(at - pts[0])
+        if chord is not None and np.degrees(np.arccos(min(max(float(first @ chord), -1.0), 1.0))) > EASE_DEG:
+            break
+    else:
         return pts
     h = 0.5 * reach
     tangent = _unit(point_at_length(pts, reach + h, cum) - point_at_length(pts, reach - h, cum))

@@ -168,8 +168,8 @@ def test_a_hook_at_an_edges_end_is_eased_so_that_the_coons_patch_does_not_turn_o
     outwards (a VR stroke overshooting its corner): the Hermite-blended Coons patch takes that side's
     end tangent as its cross-boundary derivative along the whole first side, and turns over
     (180 deg). core.objects._eased replaces the hooked tenth of the side by a cubic along its chord:
-    the patch is flat again, the corner itself kept exactly; a half circle (its end 9 deg off its
-    chord to a tenth along it) is left as it is."""
+    the patch is flat again, the corner itself kept exactly; a half circle (its end 9 and 18 deg off
+    its chords to a tenth and a fifth along it) is left as it is."""
     from ProgSurf.core.loop_corners import patch_turn_deg
     from ProgSurf.core.objects import _eased
 
