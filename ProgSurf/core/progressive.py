@@ -65,6 +65,13 @@ class StrokeRecord:
     merged_curves: tuple = ()
 
 
+FOLD_REASON = "it would fold the surface"
+"""How the record of a stroke rejected for folding the surface begins (StrokeFoldsError)."""
+
+STRAIGHT_NOTE = ("taken as one straight piece of the pre-image (its bent pieces, each extended across "
+                 "its region, folded the surface)")
+
+
 @dataclass
 class _Work:
     """What add_stroke has done so far, for its record: per straight piece its pre-image ends (2, 2),
@@ -79,6 +86,7 @@ class _Work:
     offsets: list = field(default_factory=list)
     misses: list = field(default_factory=list)
     merged: list = field(default_factory=list)
+    bent: bool = False
 
 
 def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerances, snap: float,
@@ -92,7 +100,16 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
     snap_state = net.snapshot()
     before = net.clone()        # the surface before the stroke, read (never changed) by both tries
     pts = np.array(stroke, dtype=float)
-    rec, misses = _add_once(net, before, pts, index, tol, snap, falloff, snap_state)
+    rec, misses, bent = _add_once(net, before, pts, index, tol, snap, falloff, snap_state)
+    if bent and rec.status == "rejected" and rec.reason.startswith(FOLD_REASON):
+        # its pre-image bends: the paper inserts each straight piece in turn, each extended to the
+        # boundary of its region across the surface (an extension no stroke drew); where those
+        # folded it, the stroke is tried once more as one straight piece from its first end to
+        # its last (the surface it makes is still the stroke's, in 3D: only its layout in the
+        # pre-image differs)
+        again, again_misses, _ = _add_once(net, before, pts, index, tol, snap, falloff, snap_state, straight=True)
+        if again.status == "accepted":
+            rec, misses = replace(again, reason=again.reason + "; " + STRAIGHT_NOTE), again_misses
     misses = as_drawn(pts, misses, snap) if len(pts) >= 2 else []
     if not may_be_off(misses, snap):
         return rec
@@ -104,8 +121,8 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
         # drawn keeps what it did
         first = net.snapshot()
         net.restore(snap_state)
-        again, _ = _add_once(net, before, onto_crossings(pts, misses, normals), index, tol, snap, falloff,
-                             snap_state)
+        again, _, _ = _add_once(net, before, onto_crossings(pts, misses, normals), index, tol, snap, falloff,
+                                snap_state)
         if again.status == "accepted":
             return replace(again, reason=again.reason + "; " + off_surface.note(len(misses), off))
         net.restore(first)
@@ -113,10 +130,11 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
 
 
 def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances, snap: float,
-              falloff: str, snap_state: tuple) -> tuple[StrokeRecord, list]:
-    """add_stroke as the paper has it (later strokes win): the record, and the stroke's misses of the
-    earlier stroke curves it crossed (those found before a rejection, when it is rejected).
-    old: a clone of net as it is now (snap_state), read only."""
+              falloff: str, snap_state: tuple, straight: bool = False) -> tuple[StrokeRecord, list, bool]:
+    """add_stroke as the paper has it (later strokes win): the record, the stroke's misses of the
+    earlier stroke curves it crossed (those found before a rejection, when it is rejected), and
+    whether its pre-image bent (was split into straight pieces). old: a clone of net as it is now
+    (snap_state), read only. straight: insert each open piece as one straight piece."""
     net.take_log()
     work = _Work()
     try:
@@ -128,7 +146,7 @@ def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
             pieces = [pts[: far + 1], pts[far:]]          # a closed stroke: two open pieces
         used = []
         for piece in pieces:
-            used.append(_add_open(net, old, piece, index, tol, snap, falloff, work))
+            used.append(_add_open(net, old, piece, index, tol, snap, falloff, work, straight))
         log = net.take_log()
         touched = {r for kind, r in log if kind in ("created", "changed") and r in net.region_ids}
         left = repair_folds(net, old, touched, sag_mm=tol.made_sag_mm)
@@ -136,11 +154,11 @@ def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
         log += replanned
         if left:
             worst = max(left, key=lambda f: f.angle_deg)
-            raise StrokeFoldsError(f"it would fold the surface: {worst.describe()}; redraw it closer "
+            raise StrokeFoldsError(f"{FOLD_REASON}: {worst.describe()}; redraw it closer "
                                    "to the surface, or further from the curves it nearly touches")
     except ProgSurfError as err:
         net.restore(snap_state)
-        return StrokeRecord(index, "interior", "rejected", str(err), points=pts), work.misses
+        return StrokeRecord(index, "interior", "rejected", str(err), points=pts), work.misses, work.bent
     created = tuple(r for kind, r in log if kind == "created" and r in net.region_ids)
     removed = tuple(r for kind, r in log if kind == "removed" and r in old.region_ids)
     note = f"{len(work.curve_ids)} straight piece(s); ends: {', '.join(work.ends)}"
@@ -159,7 +177,7 @@ def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
     return StrokeRecord(index, "interior", "accepted", note, np.vstack(work.pre_image),
                         tuple(work.curve_ids), created, removed, tuple(sorted(work.pulled)),
                         tuple(work.ends), tuple(work.offsets), np.vstack(used),
-                        merged_curves=tuple(sorted({c for c, _, _ in work.merged}))), work.misses
+                        merged_curves=tuple(sorted({c for c, _, _ in work.merged}))), work.misses, work.bent
 
 
 def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
@@ -184,8 +202,9 @@ def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: F
 
 
 def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances,
-              snap: float, falloff: str, work: _Work) -> FloatArray:
-    """One open stroke: snap/trim its ends, find its straight pieces, insert them in turn."""
+              snap: float, falloff: str, work: _Work, straight: bool = False) -> FloatArray:
+    """One open stroke: snap/trim its ends, find its straight pieces, insert them in turn (all of it
+    as one straight piece with `straight`)."""
     if len(pts) < 2 or not np.ptp(pts, axis=0).max() > 0:
         # (a "closed" stroke of one repeated point splits into a piece of one point)
         raise StrokeRejectedError("it has no length: all its points are one point")
@@ -193,7 +212,8 @@ def _add_open(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
     pts, first, last = trim_ends(net, pts, snap)
     start, end = end_of(net, first, pts[0], "first", snap), end_of(net, last, pts[-1], "last", snap)
     work.misses.extend(end_misses(net, drawn, (first, last)))
-    breaks = _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
+    breaks = [] if straight else _straight_pieces(net, pts, start.uv, end.uv, 0, len(pts) - 1, tol.param, snap)
+    work.bent |= bool(breaks)
     if breaks:
         # A gently bent pre-image can leave a later piece running along the extension of an
         # earlier one; then the whole stroke is taken as one straight piece instead.

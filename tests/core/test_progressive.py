@@ -365,3 +365,22 @@ def test_stroke_that_retraces_a_curve_at_one_end_stops_at_the_node_where_it_leav
     # nothing of the stroke lies along curve 4 before the node: its curve starts there
     xs = [p[0] for e in net.edges().values() if e.curve_id == 6 for p in e.polyline.points]
     assert min(xs) > 49.0
+
+
+def test_a_stroke_whose_bent_pieces_fold_the_surface_goes_in_as_one_straight_piece():
+    """The project's generator, cylinder panel over a pentagon with an open corner (seed 6): the
+    pre-image of interior stroke 6 bends, and the paper's way, each straight piece extended across
+    its region, folds the surface, so it used to be rejected. Taken as one straight piece from its
+    first end to its last, the surface it makes has no fold, and the stroke lies on it (until later
+    strokes pull it to them)."""
+    from benchmarks.sketches import make_config
+    from ProgSurf.core.folds import find_folds
+    from ProgSurf.core.progressive import FOLD_REASON, STRAIGHT_NOTE
+
+    sketch = make_config("cyl_penta", 6)
+    res = build_network(sketch.strokes[:7], boundary=sketch.n_boundary)
+    rec = res.records[6]
+    assert rec.status == "accepted" and STRAIGHT_NOTE in rec.reason and FOLD_REASON not in rec.reason
+    assert len(rec.curve_ids) == 1
+    assert find_folds(res.network) == []
+    check_invariants(res.network, rec, res.tol.snap_mm)
