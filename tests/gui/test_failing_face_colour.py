@@ -1,11 +1,13 @@
 """Issue 16: the GUI draws a face a quality check fails on in a warning colour (the task panel says
 why). In the real GUI under Xvfb:
 
-- the CASSIE VR sketch 07-2-2 of ../shared/data (skipped where it is absent), built as one surface
-  with the automatic boundary and tolerances: the loop around the object bounds a Coons patch that
-  turns over (3 of its 5 faces fail: their normals turn 136, 111 and 104 deg inside them), and the
-  interior strokes are rejected; leaving strokes out does not make it sound, so it is kept as it
-  is and warns (the command line exits 3 on it). The project's own family no longer warns anywhere (cyl_penta_0 did, until
+- the CASSIE VR sketch 07-2-2 of ../shared/data (skipped where it is absent) without its stroke 45,
+  built as one surface with the automatic boundary and tolerances: the loop around the object
+  bounds a Coons patch that turns over (some of its 5 faces fail: their normals turn 115-125 deg
+  inside them), and most interior strokes are rejected; leaving strokes out does not make it
+  sound, so it is kept as it is and warns (the command line exits 3 on it). (With every stroke,
+  the one interior stroke kept, 36, leaves 2 faces, both turned over: no face to draw in the
+  surface's own colour.) The project's own family no longer warns anywhere (cyl_penta_0 did, until
   3-sided regions collapsed at their sharpest corner). The faces the report's quality
   section names (folds' regions, faces over their fit allowance) are drawn in WARNING_COLOUR, every
   other face in the surface's ShapeColor, and the 3D view shows the warning colour (FreeCAD's own
@@ -54,7 +56,7 @@ def orange_share(path):
 
 doc = App.newDocument("Failing")
 strokes = make.make_strokes_from_file({sketch!r}, doc=doc)
-surface = make.make_surface(all_strokes=strokes, filter_mm=0, snap_mm=0, fit_mm=0)
+surface = make.make_surface(all_strokes=strokes[:45] + strokes[46:], filter_mm=0, snap_mm=0, fit_mm=0)
 for s in strokes:                  # the strokes are drawn over the faces
     s.ViewObject.Visibility = False
 doc.recompute()
