@@ -26,6 +26,8 @@ import numpy as np
 import numpy.typing as npt
 
 from .boundary import BoundaryLoop, best_fit_plane, boundary_from_sides, stroke_end_pairs
+from .continuity import hermite_basis, unit
+from .coons import f1
 from .errors import ProgSurfError
 from .fairing import fair_stroke, stroke_tolerance
 from .loop_corners import choose_sides
@@ -254,8 +256,7 @@ def edge_polylines(graph: StrokeGraph, faired: list, origins: Optional[list] = N
             # and none at the other end, with no slope at either, so that the edge leaves its node
             # in its stroke's own direction instead of jumping to it in one segment (a hook that
             # turned the Coons patches of noisy loops over at their corners)
-            t = ((cum[keep] - a) / (b - a))[:, None]
-            fade = 1.0 - t * t * (3.0 - 2.0 * t)
+            fade = f1((cum[keep] - a) / (b - a))[:, None]
             inner = (inner + fade * (nodes[e.node0] - point_at_length(src, a, cum))
                      + (1.0 - fade) * (nodes[e.node1] - point_at_length(src, b, cum)))
         if len(inner) and len(cum) > 1:
@@ -273,11 +274,6 @@ def edge_polylines(graph: StrokeGraph, faired: list, origins: Optional[list] = N
     return out
 
 
-def _unit(v: FloatArray) -> Optional[FloatArray]:
-    n = float(np.linalg.norm(v))
-    return v / n if n > 0 else None
-
-
 def _eased(pts: FloatArray) -> FloatArray:
     """An edge's polyline with a curl or hook at its start eased away (EASE_REACHES, EASE_DEG): the
     points before that share of its length replaced by a cubic Hermite arc from its start (tangent
@@ -287,26 +283,24 @@ def _eased(pts: FloatArray) -> FloatArray:
     total = float(cum[-1])
     if len(pts) < 3 or not total > 0:
         return pts
-    first = _unit(pts[1] - pts[0])
-    if first is None:
+    first = unit(pts[1] - pts[0])
+    if not first.any():
         return pts
     for share in EASE_REACHES:
         reach = share * total
         at = point_at_length(pts, reach, cum)
-        chord = _unit(at - pts[0])
-        if chord is not None and np.degrees(np.arccos(min(max(float(first @ chord), -1.0), 1.0))) > EASE_DEG:
+        chord = unit(at - pts[0])
+        if chord.any() and np.degrees(np.arccos(min(max(float(first @ chord), -1.0), 1.0))) > EASE_DEG:
             break
     else:
         return pts
     h = 0.5 * reach
-    tangent = _unit(point_at_length(pts, reach + h, cum) - point_at_length(pts, reach - h, cum))
-    if tangent is None:
+    tangent = unit(point_at_length(pts, reach + h, cum) - point_at_length(pts, reach - h, cum))
+    if not tangent.any():
         return pts
     k = max(int(np.count_nonzero(cum < reach)), 4)
-    t = np.linspace(0.0, 1.0, k + 1)[:-1, None]
     span = float(np.linalg.norm(at - pts[0]))
-    arc = ((2 * t ** 3 - 3 * t ** 2 + 1) * pts[0] + (t ** 3 - 2 * t ** 2 + t) * span * chord
-           + (-2 * t ** 3 + 3 * t ** 2) * at + (t ** 3 - t ** 2) * span * tangent)
+    arc = hermite_basis(np.linspace(0.0, 1.0, k + 1)[:-1]) @ np.array([pts[0], span * chord, span * tangent, at])
     return np.vstack([arc, at, pts[cum > reach]])
 
 
@@ -327,10 +321,8 @@ def _stroke_arcs(graph: StrokeGraph, faired: list, origins: Optional[list] = Non
         cum = cumulative_length(src)
         filtered_cum = cumulative_length(graph.strokes[i])
         at = np.arange(len(src)) if origins is None else np.asarray(origins[i], dtype=int)
-        if len(at) != len(filtered_cum) or len(at) < 2:
-            ratio = cum[-1] / max(filtered_cum[-1], 1e-300)
-            out[i] = (lambda s, r=ratio: s * r, cum)
-            continue
+        if len(at) != len(filtered_cum):
+            raise ValueError(f"stroke {i}: {len(at)} faired places for {len(filtered_cum)} filtered points")
         knots = np.maximum.accumulate(cum[at])
         out[i] = (lambda s, x=filtered_cum, y=knots: np.interp(s, x, y), cum)
     return out

@@ -86,7 +86,8 @@ class _Work:
     offsets: list = field(default_factory=list)
     misses: list = field(default_factory=list)
     merged: list = field(default_factory=list)
-    bent: bool = False
+    bent: bool = False          # its pre-image was split into straight pieces
+    folded: bool = False        # it was rejected for folding the surface (StrokeFoldsError)
 
 
 def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerances, snap: float,
@@ -100,16 +101,17 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
     snap_state = net.snapshot()
     before = net.clone()        # the surface before the stroke, read (never changed) by both tries
     pts = np.array(stroke, dtype=float)
-    rec, misses, bent = _add_once(net, before, pts, index, tol, snap, falloff, snap_state)
-    if bent and rec.status == "rejected" and rec.reason.startswith(FOLD_REASON):
+    rec, work = _add_once(net, before, pts, index, tol, snap, falloff, snap_state)
+    misses = work.misses
+    if work.bent and work.folded:
         # its pre-image bends: the paper inserts each straight piece in turn, each extended to the
         # boundary of its region across the surface (an extension no stroke drew); where those
         # folded it, the stroke is tried once more as one straight piece from its first end to
         # its last (the surface it makes is still the stroke's, in 3D: only its layout in the
         # pre-image differs)
-        again, again_misses, _ = _add_once(net, before, pts, index, tol, snap, falloff, snap_state, straight=True)
+        again, again_work = _add_once(net, before, pts, index, tol, snap, falloff, snap_state, straight=True)
         if again.status == "accepted":
-            rec, misses = replace(again, reason=again.reason + "; " + STRAIGHT_NOTE), again_misses
+            rec, misses = replace(again, reason=again.reason + "; " + STRAIGHT_NOTE), again_work.misses
     misses = as_drawn(pts, misses, snap) if len(pts) >= 2 else []
     if not may_be_off(misses, snap):
         return rec
@@ -121,8 +123,8 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
         # drawn keeps what it did
         first = net.snapshot()
         net.restore(snap_state)
-        again, _, _ = _add_once(net, before, onto_crossings(pts, misses, normals), index, tol, snap, falloff,
-                                snap_state)
+        again, _ = _add_once(net, before, onto_crossings(pts, misses, normals), index, tol, snap, falloff,
+                             snap_state)
         if again.status == "accepted":
             return replace(again, reason=again.reason + "; " + off_surface.note(len(misses), off))
         net.restore(first)
@@ -130,11 +132,12 @@ def add_stroke(net: PatchNetwork, stroke: FloatArray, index: int, tol: Tolerance
 
 
 def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int, tol: Tolerances, snap: float,
-              falloff: str, snap_state: tuple, straight: bool = False) -> tuple[StrokeRecord, list, bool]:
-    """add_stroke as the paper has it (later strokes win): the record, the stroke's misses of the
-    earlier stroke curves it crossed (those found before a rejection, when it is rejected), and
-    whether its pre-image bent (was split into straight pieces). old: a clone of net as it is now
-    (snap_state), read only. straight: insert each open piece as one straight piece."""
+              falloff: str, snap_state: tuple, straight: bool = False) -> tuple[StrokeRecord, _Work]:
+    """add_stroke as the paper has it (later strokes win): the record, and what was done (_Work: the
+    stroke's misses of the earlier stroke curves it crossed, those found before a rejection when it
+    is rejected; whether its pre-image bent; whether it was rejected for folding the surface).
+    old: a clone of net as it is now (snap_state), read only. straight: insert each open piece as
+    one straight piece."""
     net.take_log()
     work = _Work()
     try:
@@ -158,7 +161,8 @@ def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
                                    "to the surface, or further from the curves it nearly touches")
     except ProgSurfError as err:
         net.restore(snap_state)
-        return StrokeRecord(index, "interior", "rejected", str(err), points=pts), work.misses, work.bent
+        work.folded = isinstance(err, StrokeFoldsError)
+        return StrokeRecord(index, "interior", "rejected", str(err), points=pts), work
     created = tuple(r for kind, r in log if kind == "created" and r in net.region_ids)
     removed = tuple(r for kind, r in log if kind == "removed" and r in old.region_ids)
     note = f"{len(work.curve_ids)} straight piece(s); ends: {', '.join(work.ends)}"
@@ -177,7 +181,7 @@ def _add_once(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, index: int,
     return StrokeRecord(index, "interior", "accepted", note, np.vstack(work.pre_image),
                         tuple(work.curve_ids), created, removed, tuple(sorted(work.pulled)),
                         tuple(work.ends), tuple(work.offsets), np.vstack(used),
-                        merged_curves=tuple(sorted({c for c, _, _ in work.merged}))), work.misses, work.bent
+                        merged_curves=tuple(sorted({c for c, _, _ in work.merged}))), work
 
 
 def _straight_pieces(net: PatchNetwork, pts: FloatArray, uv0: FloatArray, uv1: FloatArray,
