@@ -266,12 +266,50 @@ def _faces(graph: StrokeGraph, rotation: dict) -> list:
     return faces
 
 
+def _pinched(graph: StrokeGraph, face: list) -> list:
+    """A face split where it passes through one node twice: [face, ...]. The walk round a face of
+    the rotation system comes back to a node it passed (two loops that touch at a node, a loop
+    drawn as a figure eight, laps of a stroke drawn round and round) when the node's edges are
+    ordered so that the face leaves by another one; such a loop crosses itself in its own
+    surface: every one the 12 real sketches had (8 of 565) turned its Coons patch over. Each closed
+    stretch between two visits is a loop of its own."""
+    def start(h):
+        e = graph.edges[h[0]]
+        return e.node1 if h[1] else e.node0
+
+    out, stack = [], [list(face)]
+    while stack:
+        f = stack.pop()
+        seen: dict = {}
+        for k, h in enumerate(f):
+            n = start(h)
+            if n in seen:
+                j = seen[n]
+                stack += [f[j:k], f[:j] + f[k:]]
+                break
+            seen[n] = k
+        else:
+            out.append(f)
+    return out
+
+
 def vector_area(points: FloatArray) -> FloatArray:
     """3D vector area (3,) of the closed polygon `points` (n, 3), about its mean: its direction
     says which way round it runs."""
     c = points.mean(axis=0)
     q = points - c
     return 0.5 * np.cross(q, np.roll(q, -1, axis=0)).sum(axis=0)
+
+
+def _alignment(graph: StrokeGraph, face: list, normals: dict) -> float:
+    """How well a face's vector area agrees with its nodes' normals: the mean of their dot products
+    with its unit vector area (0 when it has no area or no node normal)."""
+    pts = np.vstack([(graph.edges[e].points[::-1] if r else graph.edges[e].points)[:-1] for e, r in face])
+    area = vector_area(pts)
+    norm = np.linalg.norm(area)
+    nodes = [graph.edges[e].node1 if r else graph.edges[e].node0 for e, r in face]
+    ns = [normals[n] for n in nodes if n in normals]
+    return float(np.mean([n @ area / norm for n in ns])) if ns and norm > 0 else 0.0
 
 
 def find_cycles(graph: StrokeGraph) -> CycleChoice:
@@ -289,13 +327,7 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
         if len(set(ids)) < len(ids):      # walks an edge both ways: a bridge, bounds nothing
             bridges |= {e for e in ids if ids.count(e) > 1}
             continue
-        pts = np.vstack([(graph.edges[e].points[::-1] if r else graph.edges[e].points)[:-1] for e, r in face])
-        area = vector_area(pts)
-        norm = np.linalg.norm(area)
-        nodes = [graph.edges[e].node1 if r else graph.edges[e].node0 for e, r in face]
-        ns = [normals[n] for n in nodes if n in normals]
-        align = float(np.mean([n @ area / norm for n in ns])) if ns and norm > 0 else 0.0
-        scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), align))
+        scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), _alignment(graph, face, normals)))
     chosen, dropped = [], []
     for p in sorted(scored):
         cycles = scored[p]
@@ -309,7 +341,19 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
         for c in cycles:
             a = sign * c.align
             if a >= ALIGN_MIN:
-                chosen.append(Cycle(c.sides, a))
+                for loop in _pinched(graph, list(c.sides)):
+                    if len(loop) == len(c.sides):
+                        chosen.append(Cycle(c.sides, a))
+                        continue
+                    b = sign * _alignment(graph, loop, normals)
+                    if b >= ALIGN_MIN or (len(loop) == 1 and b > 0):
+                        # a closed stroke met at one node only (a wheel drawn touching a body) has
+                        # one node normal to judge it by, which says little of its plane: the
+                        # way round that agrees with it is taken
+                        chosen.append(Cycle(tuple(loop), b))
+                    else:
+                        dropped.append((Cycle(tuple(loop), b), "a loop of a face that passes through one of "
+                                        f"its nodes twice; it spans no surface (alignment {b:.2f})"))
             elif a <= -ALIGN_MIN:
                 dropped.append((c, "outer face of an open sheet: it runs the other way round the node normals"))
             else:

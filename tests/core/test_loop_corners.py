@@ -122,10 +122,12 @@ def test_a_lamp_with_moved_corners_stays_sewn():
     """10-2-1 (CASSIE, a lamp): moving the corners of its folding loops left faces whose corner lay
     inside a neighbour's edge, and Surface::Sewing did not join 6 of them (7 shells where the
     paper's corners gave 5); with a vertex there (with_vertices) it is 5 shells again, and fewer
-    of its surfaces fold (40 of 46 with the paper's corners)."""
+    of its surfaces fold (40 of 46 with the paper's corners). Its 8-sided loop through one node
+    twice (a bow tie, which folded) is two loops since stroke_cycles._pinched: 47 surfaces, and
+    one more shell of one face (6)."""
     from ProgSurf.app.objects import build_object_and_measure
     from ProgSurf.io import read_strokes
 
     out = build_object_and_measure(read_strokes(LAMP))
-    assert len(out.shells) <= 5
+    assert len(out.shells) <= 6
     assert sum(1 for f in out.folds if f) <= 38
