@@ -50,6 +50,14 @@ HOOK_FRACTION = 0.15
 OVERSKETCH_COVER = 0.8
 """A stroke within delta of a longer stroke along this fraction of its length is an over-sketch."""
 
+EXTEND = 3.0
+"""A stroke end that no stroke comes within PROXIMITY x delta of, but whose own direction leads
+to one within this many delta (EXTEND_DEG), stopped short of it: it is joined there (a ring drawn
+round with a gap at its seam, a stroke stopped short of the curve it runs to)."""
+
+EXTEND_DEG = 15.0
+"""How far off a stroke end's direction (its last delta) the curve it stopped short of may lie."""
+
 
 @dataclass(frozen=True)
 class GraphNode:
@@ -240,8 +248,10 @@ def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -
     reach = PROXIMITY * delta
     boxes = _Boxes(strokes)
     cums = {i: cumulative_length(strokes[i]) for i in live}
+    free = []
     for i in live:
         total = chord_length(strokes[i])
+        closes = total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
             best = None
             near = boxes.close_to(p, p, reach)
@@ -251,11 +261,106 @@ def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -
                 d, sj = nearest_on(p[None], strokes[j], cums[j])
                 if d[0] <= reach and (best is None or d[0] < best[0]):
                     best = (d[0], j, sj[0])
+            if best is None and not closes:
+                best = _extension(strokes, cums, i, s_end, live, boxes, delta)
+                if best is not None:
+                    _, j, sj = best
+                    cands.add(point_at_length(strokes[j], sj, cums[j]), [(i, s_end), (j, sj)])
+                    continue
+                free.append((i, s_end, p, _end_direction(strokes[i], cums[i], s_end, delta)))
             if best is not None:
                 _, j, sj = best
                 cands.add(0.5 * (p + point_at_length(strokes[j], sj, cums[j])), [(i, s_end), (j, sj)])
-        if total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach:
+        if closes:
             cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
+    _corner_gaps(free, delta, cands)
+
+
+def _end_direction(stroke: FloatArray, cum: FloatArray, s_end: float, delta: float) -> FloatArray | None:
+    """The unit direction a stroke leaves by at its end s_end (over its last delta, at most half
+    of it), or None."""
+    total = float(cum[-1])
+    p = point_at_length(stroke, s_end, cum)
+    back = point_at_length(stroke, min(delta, 0.5 * total) if s_end == 0.0 else max(total - delta, 0.5 * total), cum)
+    d = p - back
+    size = float(np.linalg.norm(d))
+    return d / size if size > 0 else None
+
+
+def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
+    """Two free stroke ends (no stroke near either, nor ahead of it) whose directions lead, each
+    within EXTEND x delta, to one place where they pass within delta / 2 of each other: two strokes
+    that both stopped short of the corner they make. They meet at that place (the paper's closing
+    extends such a gap). The closest pairs first; an end joins once."""
+    reach = EXTEND * delta
+    pairs = []
+    for x in range(len(free)):
+        i, si, p, d = free[x]
+        for y in range(x + 1, len(free)):
+            j, sj, q, e = free[y]
+            if i == j or d is None or e is None or np.linalg.norm(p - q) > reach:
+                continue
+            # closest approach of the rays p + a d and q + b e
+            w = p - q
+            c = float(d @ e)
+            den = 1.0 - c * c
+            if den < 1e-6:
+                continue
+            a = (c * float(e @ w) - float(d @ w)) / den
+            b = (float(e @ w) - c * float(d @ w)) / den
+            if not (0.0 <= a <= reach and 0.0 <= b <= reach):
+                continue
+            gap = float(np.linalg.norm((p + a * d) - (q + b * e)))
+            if gap <= 0.5 * delta:
+                pairs.append((a + b, x, y, 0.5 * ((p + a * d) + (q + b * e))))
+    used: set = set()
+    for _, x, y, point in sorted(pairs, key=lambda t: t[0]):
+        if x in used or y in used:
+            continue
+        used |= {x, y}
+        cands.add(point, [(free[x][0], free[x][1]), (free[y][0], free[y][1])])
+
+
+def _extension(strokes: list, cums: dict, i: int, s_end: float, live: list, boxes: "_Boxes",
+               delta: float) -> tuple | None:
+    """(distance, stroke j, arc length on j) of the nearest stroke point ahead of stroke i's end at
+    s_end along the end's own direction (over its last delta): within EXTEND x delta of the end and
+    EXTEND_DEG of that direction (a delta / 4 aside allowed for the strokes' noise); on stroke i
+    itself only further than 4 x EXTEND x delta from the end along it. None when there is none."""
+    cum = cums[i]
+    total = float(cum[-1])
+    at_start = s_end == 0.0
+    p = strokes[i][0] if at_start else strokes[i][-1]
+    back = point_at_length(strokes[i], min(delta, 0.5 * total) if at_start else max(total - delta, 0.5 * total), cum)
+    d = p - back
+    if not np.linalg.norm(d) > 0:
+        return None
+    d = d / np.linalg.norm(d)
+    reach = EXTEND * delta
+    near = boxes.close_to(p, p, reach)
+    best = None
+    for j in live:
+        if not near[j]:
+            continue
+        step = 0.25 * delta
+        s = np.arange(0.0, float(cums[j][-1]) + step, step)
+        s = np.minimum(s, cums[j][-1])
+        if j == i:
+            s = s[np.abs(s - s_end) > 4 * reach]
+            if not len(s):
+                continue
+        q = point_at_length(strokes[j], s, cums[j])
+        v = q - p
+        along = v @ d
+        aside = np.linalg.norm(v - along[:, None] * d, axis=1)
+        ok = (along > 0) & (along <= reach) & (aside <= along * np.tan(np.radians(EXTEND_DEG)) + 0.25 * delta)
+        if ok.any():
+            # the place closest to the end's line of sight, then its foot on the stroke
+            k = int(np.flatnonzero(ok)[np.argmin(aside[ok] / along[ok])])
+            _, foot = nearest_on((p + along[k] * d)[None], strokes[j], cums[j])
+            if best is None or along[k] < best[0]:
+                best = (float(along[k]), j, float(foot[0]))
+    return best
 
 
 def _piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray, p1: FloatArray) -> FloatArray:

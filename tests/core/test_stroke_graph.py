@@ -337,3 +337,39 @@ def test_a_face_through_one_node_twice_splits_into_its_loops():
     parts = _pinched(g, face)
     assert sorted(map(sorted, parts)) == sorted(sorted(c.sides) for c in cycles)
     assert _pinched(g, list(cycles[0].sides)) == [list(cycles[0].sides)]
+
+
+def test_a_stroke_stopped_short_of_the_curve_it_runs_to_meets_it():
+    """A stem that stops 2.5 delta short of a bar (beyond the 2 delta of a T-node's reach), heading
+    at it, meets the bar there (stroke_graph.EXTEND); one heading along the bar stays dangling."""
+    bar = line([0, 0, 0], [100, 0, 0])
+    stem = line([50, 60, 0], [50, 2.5, 0])
+    g = build_stroke_graph([bar, stem], 1.0)
+    t = [n for n in g.nodes if n.kind == "T"]
+    assert len(t) == 1 and np.linalg.norm(t[0].point - [50, 0, 0]) < 0.1
+    assert not any(n.kind == "end" and np.linalg.norm(n.point - [50, 2.5, 0]) < 5 for n in g.nodes)
+    g2 = build_stroke_graph([bar, line([170, 2.5, 0], [102.5, 2.5, 0])], 1.0)     # heading past the bar's end
+    assert "isolated" in g2.notes[0] and "isolated" in g2.notes[1]
+
+
+def test_two_strokes_stopped_short_of_their_corner_meet_there():
+    """A square whose last corner both strokes stop 1.5 delta short of (2.1 delta apart, beyond the
+    2 delta reach): they meet at the corner (stroke_graph._corner_gaps), and the square is one loop."""
+    d = 1.0
+    strokes = [line([0, 0, 0], [40, 0, 0]), line([40, 0, 0], [40, 40, 0]), line([40, 40, 0], [1.5 * d, 40, 0]),
+               line([0, 0, 0], [0, 40 - 1.5 * d, 0])]
+    g = build_stroke_graph(strokes, d)
+    assert not [n for n in g.nodes if n.kind == "end"]
+    corner = min(g.nodes, key=lambda n: np.linalg.norm(n.point - [0, 40, 0]))
+    assert np.linalg.norm(corner.point - [0, 40, 0]) < 0.05
+    assert [len(c.sides) for c in find_cycles(g).cycles] == [4]
+
+
+def test_a_ring_drawn_with_a_gap_closes():
+    """A ring crossed by two rulings, drawn round with a gap of 2.5 delta at its seam: its own
+    direction leads to its start, and it closes there."""
+    th = np.linspace(0.0, 2 * np.pi - 2.5 / 30.0, 200)
+    ring = np.c_[30 * np.cos(th), 30 * np.sin(th), 0 * th]
+    rulings = [line([30 * np.cos(a), 30 * np.sin(a), -20], [30 * np.cos(a), 30 * np.sin(a), 20]) for a in (1.0, 4.0)]
+    g = build_stroke_graph([ring] + rulings, 1.0)
+    assert not [n for n in g.nodes if n.kind == "end" and abs(n.point[2]) < 1]
