@@ -41,6 +41,10 @@ themselves, right for a node inside a sheet, would lie along the cone's axis and
 rulings at random. The TiGL fuselage's tail apex closes with 0.5; with 0.8 it does not, with 0.2
 10-2-1's network changes."""
 
+STRAIGHT_DEG = 30.0
+"""A node of two edges whose directions are within this of one line counts in a face's alignment
+only when the face has no other node (_straight_nodes)."""
+
 TANGENT_REACH = 3.0
 """An edge's direction at a node is taken to its point this many delta along it (at most 30 % of it)."""
 
@@ -301,15 +305,27 @@ def vector_area(points: FloatArray) -> FloatArray:
     return 0.5 * np.cross(q, np.roll(q, -1, axis=0)).sum(axis=0)
 
 
-def _alignment(graph: StrokeGraph, face: list, normals: dict) -> float:
+def _alignment(graph: StrokeGraph, face: list, normals: dict, straight: frozenset = frozenset()) -> float:
     """How well a face's vector area agrees with its nodes' normals: the mean of their dot products
-    with its unit vector area (0 when it has no area or no node normal)."""
+    with its unit vector area (0 when it has no area or no node normal). Nodes in `straight` (two
+    edges running on nearly in line: _straight_nodes) count only when the face has no other."""
     pts = np.vstack([(graph.edges[e].points[::-1] if r else graph.edges[e].points)[:-1] for e, r in face])
     area = vector_area(pts)
     norm = np.linalg.norm(area)
     nodes = [graph.edges[e].node1 if r else graph.edges[e].node0 for e, r in face]
+    if any(n not in straight for n in nodes):
+        nodes = [n for n in nodes if n not in straight]
     ns = [normals[n] for n in nodes if n in normals]
     return float(np.mean([n @ area / norm for n in ns])) if ns and norm > 0 else 0.0
+
+
+def _straight_nodes(half: dict) -> frozenset:
+    """Nodes of two edges that run on within STRAIGHT_DEG of one line (a stroke drawn in two parts,
+    two strokes meeting end to end): the plane of their two directions, their normal, says
+    little of the surface there, and one such normal turned the wrong way left a face of a body
+    out (alignment 0.30 with it, 0.74 without)."""
+    limit = -np.cos(np.radians(STRAIGHT_DEG))
+    return frozenset(n for n, hs in half.items() if len(hs) == 2 and float(hs[0][2] @ hs[1][2]) <= limit)
 
 
 def find_cycles(graph: StrokeGraph) -> CycleChoice:
@@ -317,6 +333,7 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
     live = _prune(graph)
     half = _half_edges(graph, live)
     normals = _oriented_normals(graph, half)
+    straight = _straight_nodes(half)
     faces = _faces(graph, _rotation(half, normals))
     parts = _parts(graph, live)
     part_of = {k: p for p, edges in enumerate(parts) for k in edges}
@@ -327,7 +344,7 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
         if len(set(ids)) < len(ids):      # walks an edge both ways: a bridge, bounds nothing
             bridges |= {e for e in ids if ids.count(e) > 1}
             continue
-        scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), _alignment(graph, face, normals)))
+        scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), _alignment(graph, face, normals, straight)))
     chosen, dropped = [], []
     for p in sorted(scored):
         cycles = scored[p]
@@ -345,7 +362,7 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
                     if len(loop) == len(c.sides):
                         chosen.append(Cycle(c.sides, a))
                         continue
-                    b = sign * _alignment(graph, loop, normals)
+                    b = sign * _alignment(graph, loop, normals, straight)
                     if b >= ALIGN_MIN or (len(loop) == 1 and b > 0):
                         # a closed stroke met at one node only (a wheel drawn touching a body) has
                         # one node normal to judge it by, which says little of its plane: the
