@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -312,44 +311,17 @@ def _child(kind: str, seed: int, clean: bool, rough: bool, result: str) -> None:
 def run(todo: list, jobs: int = 2, clean: bool = False, rough: bool = False, timeout_s: float = 600.0,
         progress=None) -> list:
     """Each (kind, seed) measured in a fresh process (this file with --child), `jobs` at a time."""
-    import subprocess
-    import tempfile
+    from benchmarks.quality import in_children, python
 
-    from benchmarks.quality import python
+    def command(spec, path):
+        return ([python(), str(Path(__file__).resolve()), "--child", spec[0], str(spec[1]), "--result", str(path)]
+                + (["--clean"] if clean else []) + (["--rough"] if rough else []))
 
-    env = dict(os.environ)
-    env.setdefault("OPENBLAS_NUM_THREADS", "1")
-    pending, running, done = list(todo), {}, {}
-    with tempfile.TemporaryDirectory(prefix="progsurf-objects-") as tmp:
-        while pending or running:
-            while pending and len(running) < max(1, jobs):
-                kind, seed = pending.pop(0)
-                path = Path(tmp) / f"{kind}_{seed}.json"
-                cmd = [python(), str(Path(__file__).resolve()), "--child", kind, str(seed), "--result", str(path)]
-                cmd += (["--clean"] if clean else []) + (["--rough"] if rough else [])
-                proc = subprocess.Popen(cmd, cwd=str(ROOT), env=env,
-                                        stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                        stderr=subprocess.PIPE, text=True)
-                running[(kind, seed)] = (proc, path, time.monotonic())
-            time.sleep(0.2)
-            for key, (proc, path, t0) in list(running.items()):
-                if proc.poll() is None and time.monotonic() - t0 <= timeout_s:
-                    continue
-                if proc.poll() is None:
-                    proc.kill()
-                err = proc.communicate()[1] or ""
-                if proc.returncode == 0 and path.exists():
-                    res = json.loads(path.read_text())
-                else:
-                    tail = (err.strip().splitlines() or [""])[-1][:200]
-                    res = {"name": f"{key[0]}_{key[1]}", "kind": key[0], "seed": key[1], "built": False,
-                           "error": f"the build process exited {proc.returncode}: {tail}",
-                           "time_s": time.monotonic() - t0}
-                del running[key]
-                done[key] = res
-                if progress:
-                    progress(res)
-    return [done[k] for k in todo]
+    def lost(spec, why, seconds):
+        return {"name": f"{spec[0]}_{spec[1]}", "kind": spec[0], "seed": spec[1], "built": False, "error": why,
+                "time_s": seconds}
+
+    return in_children(todo, command, lost, jobs, timeout_s, progress)
 
 
 def line(r: dict) -> str:

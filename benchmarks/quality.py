@@ -203,29 +203,27 @@ def python() -> str:
     return sys.executable if Path(sys.executable).name.startswith("python") else "/usr/bin/python3"
 
 
-def run(specs, continuities=CONTINUITIES, jobs: int = 2, clean: bool = False, timeout_s: float = 900.0,
-        progress=None) -> list[dict]:
-    """Measure every (name, config, seed) of specs, each in its own fresh process (this file run
-    with --child), `jobs` at a time; a process that fails or outlives timeout_s counts as not built.
-    progress(result) is called as each sketch ends. Results in the order of specs."""
+def in_children(jobs_list: list, command, lost, jobs: int = 2, timeout_s: float = 900.0, progress=None) -> list:
+    """Run one fresh process per item of jobs_list, `jobs` at a time: command(item, result_path)
+    is its argument list (run from the project's root; it writes its result as JSON to
+    result_path). A process that fails or outlives timeout_s gives lost(item, why) instead.
+    progress(result) is called as each ends. Results in the order of jobs_list."""
     import subprocess
     import tempfile
 
     env = dict(os.environ)
     env.setdefault("OPENBLAS_NUM_THREADS", "1")   # small matrices: BLAS threads only spin
-    pending, running, done = list(specs), {}, {}
-    with tempfile.TemporaryDirectory(prefix="progsurf-quality-") as tmp:
+    pending, running, done = list(range(len(jobs_list))), {}, {}
+    with tempfile.TemporaryDirectory(prefix="progsurf-children-") as tmp:
         while pending or running:
             while pending and len(running) < max(1, jobs):
-                spec = pending.pop(0)
-                path = Path(tmp) / f"{spec[0]}.json"
-                cmd = [python(), str(Path(__file__).resolve()), "--child", spec[0], spec[1], str(spec[2]),
-                       "--result", str(path), "--continuity", *continuities] + (["--clean"] if clean else [])
-                proc = subprocess.Popen(cmd, cwd=str(ROOT), env=env, stdin=subprocess.DEVNULL,
+                k = pending.pop(0)
+                path = Path(tmp) / f"{k}.json"
+                proc = subprocess.Popen(command(jobs_list[k], path), cwd=str(ROOT), env=env, stdin=subprocess.DEVNULL,
                                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-                running[spec[0]] = (proc, path, time.monotonic(), spec)
+                running[k] = (proc, path, time.monotonic())
             time.sleep(0.2)
-            for name, (proc, path, t0, spec) in list(running.items()):
+            for k, (proc, path, t0) in list(running.items()):
                 if proc.poll() is None and time.monotonic() - t0 <= timeout_s:
                     continue
                 if proc.poll() is None:
@@ -238,13 +236,28 @@ def run(specs, continuities=CONTINUITIES, jobs: int = 2, clean: bool = False, ti
                     res = json.loads(path.read_text())
                 else:
                     tail = (err.strip().splitlines() or [""])[-1][:200]
-                    lost = {"built": False, "error": f"{error}: {tail}", "time_s": time.monotonic() - t0}
-                    res = {"name": name, "config": spec[1], "seed": spec[2], **{c: lost for c in continuities}}
-                del running[name]
-                done[name] = res
+                    res = lost(jobs_list[k], f"{error}: {tail}", time.monotonic() - t0)
+                del running[k]
+                done[k] = res
                 if progress:
                     progress(res)
-    return [done[s[0]] for s in specs]
+    return [done[k] for k in range(len(jobs_list))]
+
+
+def run(specs, continuities=CONTINUITIES, jobs: int = 2, clean: bool = False, timeout_s: float = 900.0,
+        progress=None) -> list[dict]:
+    """Measure every (name, config, seed) of specs, each in its own fresh process (this file run
+    with --child), `jobs` at a time; a process that fails or outlives timeout_s counts as not built.
+    progress(result) is called as each sketch ends. Results in the order of specs."""
+    def command(spec, path):
+        return ([python(), str(Path(__file__).resolve()), "--child", spec[0], spec[1], str(spec[2]),
+                 "--result", str(path), "--continuity", *continuities] + (["--clean"] if clean else []))
+
+    def lost(spec, why, seconds):
+        gone = {"built": False, "error": why, "time_s": seconds}
+        return {"name": spec[0], "config": spec[1], "seed": spec[2], **{c: gone for c in continuities}}
+
+    return in_children(list(specs), command, lost, jobs, timeout_s, progress)
 
 
 def line(res: dict, continuity: str) -> str:
