@@ -254,10 +254,10 @@ def make_object(kind: str, seed: int, noise: dict | None = None, rough: bool = F
     q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
     q *= np.sign(np.linalg.det(q))
     shift = rng.normal(size=3) * size
-    dense = [_dense(c, closed_c)[0] for c, closed_c in curves]
-    every = np.vstack(dense)
+    dense = [_dense(c, closed_c) for c, closed_c in curves]
+    every = np.vstack([pts for pts, _ in dense])
     diag = float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
-    mean_len = float(np.mean([_dense(c, cl)[1][-1] for c, cl in curves]))
+    mean_len = float(np.mean([cum[-1] for _, cum in dense]))
     drawn = [pair for k in range(len(curves)) for pair in _strokes_of(curves[k][0], curves[k][1], mean_len, diag, rng, nz)]
     strokes, clean = [], []
     for k in rng.permutation(len(drawn)):

@@ -262,12 +262,13 @@ def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -
                 if d[0] <= reach and (best is None or d[0] < best[0]):
                     best = (d[0], j, sj[0])
             if best is None and not closes:
-                best = _extension(strokes, cums, i, s_end, live, boxes, delta)
+                direction = _end_direction(strokes[i], cums[i], s_end, delta)
+                best = _extension(strokes, cums, i, s_end, direction, live, boxes, delta)
                 if best is not None:
                     _, j, sj = best
                     cands.add(point_at_length(strokes[j], sj, cums[j]), [(i, s_end), (j, sj)])
                     continue
-                free.append((i, s_end, p, _end_direction(strokes[i], cums[i], s_end, delta)))
+                free.append((i, s_end, p, direction))
             if best is not None:
                 _, j, sj = best
                 cands.add(0.5 * (p + point_at_length(strokes[j], sj, cums[j])), [(i, s_end), (j, sj)])
@@ -321,21 +322,16 @@ def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
         cands.add(point, [(free[x][0], free[x][1]), (free[y][0], free[y][1])])
 
 
-def _extension(strokes: list, cums: dict, i: int, s_end: float, live: list, boxes: "_Boxes",
-               delta: float) -> tuple | None:
+def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | None, live: list,
+               boxes: "_Boxes", delta: float) -> tuple | None:
     """(distance, stroke j, arc length on j) of the nearest stroke point ahead of stroke i's end at
-    s_end along the end's own direction (over its last delta): within EXTEND x delta of the end and
-    EXTEND_DEG of that direction (a delta / 4 aside allowed for the strokes' noise); on stroke i
-    itself only further than 4 x EXTEND x delta from the end along it. None when there is none."""
-    cum = cums[i]
-    total = float(cum[-1])
-    at_start = s_end == 0.0
-    p = strokes[i][0] if at_start else strokes[i][-1]
-    back = point_at_length(strokes[i], min(delta, 0.5 * total) if at_start else max(total - delta, 0.5 * total), cum)
-    d = p - back
-    if not np.linalg.norm(d) > 0:
+    s_end along the end's own direction d (_end_direction; None: no direction, no extension):
+    within EXTEND x delta of the end and EXTEND_DEG of that direction (a delta / 4 aside allowed for
+    the strokes' noise); on stroke i itself only further than 4 x EXTEND x delta from the end along
+    it. None when there is none."""
+    if d is None:
         return None
-    d = d / np.linalg.norm(d)
+    p = strokes[i][0] if s_end == 0.0 else strokes[i][-1]
     reach = EXTEND * delta
     near = boxes.close_to(p, p, reach)
     best = None
