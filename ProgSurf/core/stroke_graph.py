@@ -19,6 +19,9 @@ CASSIE (Yu et al., CHI 2021) publishes:
   than PROXIMITY x delta is trimmed where it leaves it, and joined there, unless the two strokes
   end together there and part steadily, the rulings of a cone at its tip: they meet at that apex
   (core.stroke_nodes.apex_meeting);
+- two strokes that run side by side, away from their ends, further apart than SIDE_GAP x delta
+  (yet within delta) do not touch there: curves of one family drawn close together, a boom's
+  guides (_side_by_side);
 - an end piece beyond the stroke's last node no longer than HOOK x delta and HOOK_FRACTION of the
   stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1.
 
@@ -33,8 +36,8 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from .stroke_nodes import (NodeCandidates, apex_meeting, components, merge_candidates, nearest_on, seam_twins,
-                           segment_distances)
+from .stroke_nodes import (NodeCandidates, apex_meeting, components, ends_in, merge_candidates, nearest_on,
+                           seam_twins, segment_distances)
 from .strokes import chord_length, cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -57,6 +60,13 @@ round with a gap at its seam, a stroke stopped short of the curve it runs to).""
 
 EXTEND_DEG = 15.0
 """How far off a stroke end's direction (its last delta) the curve it stopped short of may lie."""
+
+
+SIDE_GAP = 0.5
+"""Two strokes that come no closer than this many delta, away from their ends, ..."""
+
+SIDE_DEG = 30.0
+"""... and run there within this of one direction are side by side, not touching (_side_by_side)."""
 
 
 @dataclass(frozen=True)
@@ -194,11 +204,16 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
             runs = [_is_run(cums[i], cums[j], rows, cols, delta) for rows, cols in comps]
             kept = seam_twins(comps, dist, np.linalg.norm(a[0] - a[-1]) <= delta,
                               np.linalg.norm(b[0] - b[-1]) <= delta, runs)
-            for (rows, cols), run in ((comps[k], runs[k]) for k in kept):
+            spans = [(cums[i][r.min()], cums[i][r.max() + 1], cums[j][c.min()], cums[j][c.max() + 1]) for r, c in comps]
+            for k_comp in kept:
+                (rows, cols), run = comps[k_comp], runs[k_comp]
                 k = int(np.argmin(dist[rows, cols]))
                 r, c = rows[k], cols[k]
                 sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
                 sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
+                if (not any(ends_in(cums[i], rows) + ends_in(cums[j], cols)) and not _again(spans, k_comp)
+                        and _side_by_side(a, b, cums[i], cums[j], sa, sb, float(dist[r, c]), delta)):
+                    continue
                 if run and not apex_meeting(a, b, cums[i], cums[j], rows, cols, delta):
                     # a run along the other stroke: trim the stroke whose end lies in the run
                     _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes)
@@ -206,6 +221,33 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
                 pa = point_at_length(a, sa, cums[i])
                 pb = point_at_length(b, sb, cums[j])
                 cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
+
+
+def _again(spans: list, k: int) -> bool:
+    """Whether component k of two strokes' close pairs (spans: (a0, a1, b0, b1) arc-length ranges)
+    shares a stretch of either stroke with another component: one stroke passes that place of
+    the other twice or more (a wheel drawn round four times, passing a body stroke each time)."""
+    a0, a1, b0, b1 = spans[k]
+    return any(x != k and (min(o[1], a1) > max(o[0], a0) or min(o[3], b1) > max(o[2], b0))
+               for x, o in enumerate(spans))
+
+
+def _side_by_side(a: FloatArray, b: FloatArray, cum_a: FloatArray, cum_b: FloatArray, sa: float, sb: float,
+                  gap: float, delta: float) -> bool:
+    """Whether two strokes whose closest approach (gap, at arc lengths sa, sb) lies between
+    SIDE_GAP x delta and delta run side by side there: within SIDE_DEG of one direction over a
+    delta either side. Two curves of a family drawn close together (the guides of the TiGL
+    helicopter's tail boom, 0.5-1 delta apart over 1 m, meeting only at its tip) come in and out
+    of delta along each other: each place would be a node pinching them together, and a sliver
+    face between them. A near-crossing at an angle, or closer than SIDE_GAP x delta, touches."""
+    if gap <= SIDE_GAP * delta:
+        return False
+    da = point_at_length(a, min(sa + delta, cum_a[-1]), cum_a) - point_at_length(a, max(sa - delta, 0.0), cum_a)
+    db = point_at_length(b, min(sb + delta, cum_b[-1]), cum_b) - point_at_length(b, max(sb - delta, 0.0), cum_b)
+    na, nb = float(np.linalg.norm(da)), float(np.linalg.norm(db))
+    if na == 0.0 or nb == 0.0:
+        return False
+    return abs(float(da @ db)) / (na * nb) >= np.cos(np.radians(SIDE_DEG))
 
 
 def _is_run(cum_a: FloatArray, cum_b: FloatArray, rows: np.ndarray, cols: np.ndarray, delta: float) -> bool:

@@ -120,7 +120,7 @@ def nearest_on(points: FloatArray, poly: FloatArray, cum: FloatArray | None = No
     return d[k, j], cum[j] + w[k, j] * seg[j]
 
 
-def _ends_in(cum: FloatArray, segments: np.ndarray) -> tuple[bool, bool]:
+def ends_in(cum: FloatArray, segments: np.ndarray) -> tuple[bool, bool]:
     """(start, end): whether the stroke's first / last point lies in the run of these segments."""
     total = cum[-1]
     return bool(cum[segments.min()] <= 1e-9 * total), bool(cum[segments.max() + 1] >= total * (1 - 1e-9))
@@ -134,8 +134,8 @@ def apex_meeting(a: FloatArray, b: FloatArray, cum_a: FloatArray, cum_b: FloatAr
     sampled along a, has grown halfway along the run by at least APEX_PARTING of its growth over
     the run. The rulings of a cone, drawn to its tip, meet so; a stroke drawn over another's end
     stays close along the run and is trimmed there instead (core.stroke_graph)."""
-    a_start, a_end = _ends_in(cum_a, rows)
-    b_start, b_end = _ends_in(cum_b, cols)
+    a_start, a_end = ends_in(cum_a, rows)
+    b_start, b_end = ends_in(cum_b, cols)
     if a_start == a_end or b_start == b_end:
         return False
     samples = np.linspace(cum_a[rows.min()], cum_a[rows.max() + 1], 33)

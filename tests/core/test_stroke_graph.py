@@ -392,3 +392,44 @@ def test_a_node_where_two_strokes_run_on_in_line_does_not_judge_a_face():
     graph, choice, _ = stroke_network(sk.strokes)
     assert len(choice.cycles) == sk.surfaces == 16
     assert not [r for _, r in choice.dropped if r.startswith("spans no surface")]
+
+
+def _beside(gap: float, d: float = 1.0) -> np.ndarray:
+    """A stroke along the line y = 0 (x from 0 to 100) that comes within `gap` of it over x 30-70,
+    running along it there, and is 3 delta off at its ends."""
+    x = np.linspace(0.0, 100.0, 400)
+    y = gap + (3.0 * d - gap) * ((x - 50.0) / 50.0) ** 4
+    return np.c_[x, y, 0 * x]
+
+
+def _nodes_of(g, strokes) -> list:
+    return [n for n in g.nodes if {e.stroke for e in g.edges if n.id in (e.node0, e.node1)} == set(strokes)]
+
+
+@pytest.mark.parametrize("gap, touch", [(0.7, False), (0.3, True)])
+def test_two_strokes_side_by_side_touch_only_closer_than_half_delta(gap, touch):
+    """Two strokes crossed by two rungs, running side by side between them over 40 delta: 0.7 delta
+    apart they are two curves of a family (a tail boom's guides), no node pinches them together and
+    the space between them is one loop; 0.3 delta apart they touch there (stroke_graph.SIDE_GAP)."""
+    rungs = [line([x, -4, 0], [x, 4, 0]) for x in (10.0, 90.0)]
+    g = build_stroke_graph([line([0, 0, 0], [100, 0, 0], 400), _beside(gap)] + rungs, 1.0)
+    assert bool(_nodes_of(g, [0, 1])) == touch
+    assert sum(1 for e in g.edges if e.stroke == 0) == (4 if touch else 3)
+    if not touch:
+        between = [c for c in find_cycles(g).cycles if {g.edges[e].stroke for e, _ in c.sides} == {0, 1, 2, 3}]
+        assert len(between) == 1
+
+
+def test_a_stroke_that_passes_beside_another_twice_touches_it():
+    """A stroke that runs 0.7 delta beside a line, turns away and comes back beside the same stretch
+    on its other side (drawn round it again, as a wheel drawn round four times passes a body stroke
+    each time) touches it there: that place is drawn over, not a family of curves."""
+    x = np.linspace(30.0, 70.0, 100)
+    lead = line([0, 20, 0], [30, 0.7, 0], 60)
+    there = np.c_[x, np.full_like(x, 0.7), 0 * x]
+    turn = np.vstack([line([75, 0.7, 0], [75, 0.7, 5], 10), line([75, 0.7, 5], [75, -0.7, 5], 5)[1:],
+                      line([75, -0.7, 5], [70, -0.7, 0], 10)[1:]])
+    back = np.c_[x[::-1], np.full_like(x, -0.7), 0 * x]
+    stroke = np.vstack([lead[:-1], there, turn, back[1:], line([30, -0.7, 0], [0, -20, 0], 60)[1:]])
+    g = build_stroke_graph([line([0, 0, 0], [100, 0, 0], 400), stroke], 1.0)
+    assert _nodes_of(g, [0, 1])
