@@ -46,7 +46,13 @@ STRAIGHT_DEG = 30.0
 only when the face has no other node (_straight_nodes)."""
 
 TANGENT_REACH = 3.0
-"""An edge's direction at a node is taken to its point this many delta along it (at most 30 % of it)."""
+"""An edge's direction at a node is taken to its point this many delta along it (at most 30 % of it,
+but at least TANGENT_LEAST delta)."""
+
+TANGENT_LEAST = 0.5
+"""... at least this many delta along it (or all of it): a short edge's first 30 % lies within the
+strokes' noise of its node (the noisy TiGL helicopter's boom rings, cut by 16 guides into pieces
+of 30 mm, turned 45 deg out of their plane that way, with delta 42 mm)."""
 
 
 @dataclass(frozen=True)
@@ -114,10 +120,11 @@ def _prune(graph: StrokeGraph) -> set:
     return live
 
 
-def _tangent(points: FloatArray, reach: float) -> FloatArray:
-    """Unit direction from points[0] to the point `reach` along the polyline (at most 30 % of it)."""
+def _tangent(points: FloatArray, reach: float, least: float = 0.0) -> FloatArray:
+    """Unit direction from points[0] to the point `reach` along the polyline: at most 30 % of it,
+    but at least `least` (or all of it)."""
     cum = cumulative_length(points)
-    p = point_at_length(points, min(reach, 0.3 * cum[-1]))
+    p = point_at_length(points, min(reach, max(0.3 * cum[-1], min(least, cum[-1]))))
     d = p - points[0]
     n = np.linalg.norm(d)
     return d / n if n > 0 else np.zeros(3)
@@ -126,12 +133,13 @@ def _tangent(points: FloatArray, reach: float) -> FloatArray:
 def _half_edges(graph: StrokeGraph, live: set) -> dict:
     """node -> [(edge id, reversed, unit tangent leaving the node)]."""
     reach = TANGENT_REACH * graph.delta
+    least = TANGENT_LEAST * graph.delta
     out: dict = {}
     for e in graph.edges:
         if e.id not in live:
             continue
-        out.setdefault(e.node0, []).append((e.id, False, _tangent(e.points, reach)))
-        out.setdefault(e.node1, []).append((e.id, True, _tangent(e.points[::-1], reach)))
+        out.setdefault(e.node0, []).append((e.id, False, _tangent(e.points, reach, least)))
+        out.setdefault(e.node1, []).append((e.id, True, _tangent(e.points[::-1], reach, least)))
     return out
 
 
