@@ -204,7 +204,8 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
             runs = [_is_run(cums[i], cums[j], rows, cols, delta) for rows, cols in comps]
             kept = seam_twins(comps, dist, np.linalg.norm(a[0] - a[-1]) <= delta,
                               np.linalg.norm(b[0] - b[-1]) <= delta, runs)
-            spans = [(cums[i][r.min()], cums[i][r.max() + 1], cums[j][c.min()], cums[j][c.max() + 1]) for r, c in comps]
+            spans = {k: (cums[i][comps[k][0].min()], cums[i][comps[k][0].max() + 1],
+                         cums[j][comps[k][1].min()], cums[j][comps[k][1].max() + 1]) for k in kept}
             for k_comp in kept:
                 (rows, cols), run = comps[k_comp], runs[k_comp]
                 k = int(np.argmin(dist[rows, cols]))
@@ -223,13 +224,14 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
                 cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
 
 
-def _again(spans: list, k: int) -> bool:
-    """Whether component k of two strokes' close pairs (spans: (a0, a1, b0, b1) arc-length ranges)
-    shares a stretch of either stroke with another component: one stroke passes that place of
-    the other twice or more (a wheel drawn round four times, passing a body stroke each time)."""
+def _again(spans: dict, k: int) -> bool:
+    """Whether component k of two strokes' close pairs (spans: component -> its (a0, a1, b0, b1)
+    arc-length ranges) shares a stretch of either stroke with another component: one stroke passes
+    that place of the other twice or more (a wheel drawn round four times, passing a body stroke
+    each time)."""
     a0, a1, b0, b1 = spans[k]
     return any(x != k and (min(o[1], a1) > max(o[0], a0) or min(o[3], b1) > max(o[2], b0))
-               for x, o in enumerate(spans))
+               for x, o in spans.items())
 
 
 def _side_by_side(a: FloatArray, b: FloatArray, cum_a: FloatArray, cum_b: FloatArray, sa: float, sb: float,
