@@ -45,6 +45,18 @@ STRAIGHT_DEG = 30.0
 """A node of two edges whose directions are within this of one line counts in a face's alignment
 only when the face has no other node (_straight_nodes)."""
 
+WEAK_TURN_COS = 0.0
+"""A node's normal oriented from its neighbour's across an edge whose direction turns by more than
+the angle of this cosine between its two ends is checked again (_flip_weak)."""
+
+TURN_DISC = 0.75
+"""A face whose turning number (_turning) is at least this bounds a disc (_flip_weak's count)."""
+
+TURN_DISC_TOL = 0.15
+"""A face whose loop's vector area says nothing of its side (alignment under ALIGN_MIN) bounds a
+surface when its turning number is within this of 1: at each corner it turns as a disc with
+nearly straight sides does (a strip round a lip, whose nodes' normals point every way)."""
+
 TANGENT_REACH = 3.0
 """An edge's direction at a node is taken to its point this many delta along it (at most 30 % of it,
 but at least TANGENT_LEAST delta)."""
@@ -235,6 +247,74 @@ def _oriented_normals(graph: StrokeGraph, half: dict) -> dict:
     return normals
 
 
+def _turning(graph: StrokeGraph, face: list, normals: dict, leaving: dict) -> float:
+    """A face's turning number about its nodes' normals: the sum over its corners of pi less the
+    angle between the edge it leaves by and the one it came in by (counter-clockwise about the
+    node's normal), over 2 pi. A face that bounds a disc turns once (1: four corners of 90 deg);
+    a ring's cap whose nodes all lie on its ring, or a strip round a hole, does not (0)."""
+    total = 0.0
+    for k in range(len(face)):
+        e_in, r_in = face[k - 1]
+        e_out, r_out = face[k]
+        edge = graph.edges[e_out]
+        n = edge.node1 if r_out else edge.node0
+        nrm = normals.get(n)
+        if nrm is None:
+            continue
+        a = leaving[(n, e_out, r_out)]
+        b = leaving[(n, e_in, not r_in)]
+        a, b = a - (a @ nrm) * nrm, b - (b @ nrm) * nrm
+        total += np.pi - np.arctan2(float(np.cross(a, b) @ nrm), float(a @ b)) % (2 * np.pi)
+    return total / (2 * np.pi)
+
+
+def _discs(graph: StrokeGraph, half: dict, normals: dict, leaving: dict) -> int:
+    """How many faces of the rotation system that the normals give turn once (TURN_DISC)."""
+    count = 0
+    for face in _faces(graph, _rotation(half, normals)):
+        ids = [e for e, _ in face]
+        if len(set(ids)) == len(ids) and _turning(graph, face, normals, leaving) >= TURN_DISC:
+            count += 1
+    return count
+
+
+def _flip_weak(graph: StrokeGraph, half: dict, normals: dict, leaving: dict) -> dict:
+    """The normals, with each group of nodes joined to the others only by edges that turn by more
+    than a right angle between their ends (WEAK_TURN_COS) flipped as a whole where that makes more
+    faces of the rotation system discs (_turning). _oriented_normals compares the normals at an
+    edge's two ends; round a lip, where the sheet turns 150 deg along its guides from a nacelle's
+    inner ring to its outer one, that says the opposite of the truth, and the inner ring's nodes
+    were flipped: the strip round the lip made two loops of eight curves each (two rings and four
+    guides), neither a surface, and the inner ring was taken as a stroke inside the surfaces
+    behind the outer one, which it pulled 200 mm inwards. leaving: (node, edge id, reversed) ->
+    the edge's unit direction leaving that node (_half_edges)."""
+    groups: dict = {}
+    parent = {n: n for n in normals}
+
+    def root(x: int) -> int:
+        while parent[x] != x:
+            x = parent[x]
+        return x
+
+    for (u, eid, rev), t in leaving.items():
+        v = graph.edges[eid].other(u)
+        if u in parent and v in parent and float(t @ -leaving[(v, eid, not rev)]) >= WEAK_TURN_COS:
+            parent[root(v)] = root(u)
+    for n in normals:
+        groups.setdefault(root(n), []).append(n)
+    if len(groups) < 2:
+        return normals
+    best = _discs(graph, half, normals, leaving)
+    for members in sorted(groups.values(), key=len)[:-1]:
+        trial = dict(normals)
+        for n in members:
+            trial[n] = -trial[n]
+        score = _discs(graph, half, trial, leaving)
+        if score > best:
+            normals, best = trial, score
+    return normals
+
+
 def _rotation(half: dict, normals: dict) -> dict:
     """node -> its half-edges [(edge id, reversed)] in counter-clockwise order about its normal."""
     out = {}
@@ -340,7 +420,8 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
     """The cycles of the stroke network that bound surfaces (module docstring)."""
     live = _prune(graph)
     half = _half_edges(graph, live)
-    normals = _oriented_normals(graph, half)
+    leaving = {(n, e, r): t for n, hs in half.items() for e, r, t in hs}
+    normals = _flip_weak(graph, half, _oriented_normals(graph, half), leaving)
     straight = _straight_nodes(half)
     faces = _faces(graph, _rotation(half, normals))
     parts = _parts(graph, live)
@@ -381,6 +462,10 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
                                         f"its nodes twice; it spans no surface (alignment {b:.2f})"))
             elif a <= -ALIGN_MIN:
                 dropped.append((c, "outer face of an open sheet: it runs the other way round the node normals"))
+            elif abs(sign * _turning(graph, list(c.sides), normals, leaving) - 1.0) <= TURN_DISC_TOL:
+                # a strip that turns round a lip: its nodes' normals point every way round its
+                # vector area, yet at each corner it turns as a disc does
+                chosen.append(Cycle(c.sides, a))
             else:
                 dropped.append((c, f"spans no surface: its nodes' normals lie along it (alignment {a:.2f})"))
     dangling = frozenset({e.id for e in graph.edges} - live) | frozenset(bridges)

@@ -254,3 +254,25 @@ def test_a_sketch_whose_loops_face_every_way_builds_every_surface(tmp_path):
     assert proc.returncode == (0 if report["quality"]["ok"] else 3), proc.stderr
     proc = run("build", str(SMALL), "-o", str(tmp_path / "one.step"), "--surfaces", "one")
     assert proc.returncode == 2 and "gap" in proc.stderr
+
+
+NACELLE = DATA / "tigl" / "full_nacelle" / "full_nacelle.clean.xyz"
+
+
+@pytest.mark.skipif(not NACELLE.is_file(), reason=f"shared sketch {NACELLE} not found")
+def test_the_nacelle_inlet_lip_is_built():
+    """full_nacelle (TiGL, clean): its guides run from the inner ring (stroke 0) forward round the
+    inlet lip and back along the outside. The strip round the lip was left out and the inner ring
+    taken as a stroke inside the surfaces behind the lip (pulling them 200 mm inwards) while the
+    verdict said "ok"; now the inner ring bounds the 4 lip surfaces and is inside none
+    (core.stroke_cycles._flip_weak, _turning), 16 surfaces in one shell, open at both ends."""
+    from ProgSurf.app.objects import build_object_and_measure, object_report
+    from ProgSurf.io import read_strokes
+
+    out = build_object_and_measure(read_strokes(NACELLE))
+    report = object_report(out)
+    inner = report["strokes"][0]
+    assert len(out.build.surfaces) == 16
+    assert len(inner["boundary_of"]) == 4 and inner["interior_to"] == []
+    shell, = out.shells
+    assert shell["valid"] and shell["faces"] == 16 and not shell["closed"] and shell["seam_gap_max_mm"] <= 1e-6

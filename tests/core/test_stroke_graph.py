@@ -433,3 +433,40 @@ def test_a_stroke_that_passes_beside_another_twice_touches_it():
     stroke = np.vstack([lead[:-1], there, turn, back[1:], line([30, -0.7, 0], [0, -20, 0], 60)[1:]])
     g = build_stroke_graph([line([0, 0, 0], [100, 0, 0], 400), stroke], 1.0)
     assert _nodes_of(g, [0, 1])
+
+
+def _nacelle(radius=500.0, guides=4, phase=0.3):
+    """The curves of a nacelle's cowl (axis x): an inner ring, guides that run forward from it round
+    the inlet lip (turning 180 deg) and back along the outside through three outer rings."""
+    t = np.linspace(0.0, np.pi, 60)
+    nose_x, lip_r, reach, half = -0.25 * radius, 0.875 * radius, 0.2 * radius, 0.125 * radius
+    inner = np.c_[np.linspace(0.0, nose_x, 10)[:-1], np.full(9, 0.75 * radius)]
+    lip = np.c_[nose_x - reach * np.sin(t), lip_r - half * np.cos(t)]
+    back = np.c_[np.linspace(nose_x, 4 * radius, 80)[1:], np.full(79, radius)]
+    meridian = np.vstack([inner, lip, back])
+    th = np.linspace(0.0, 2 * np.pi, 121)
+    rings = [np.c_[np.full_like(th, x), r * np.cos(th), r * np.sin(th)]
+             for x, r in ((0.0, 0.75 * radius), (nose_x, radius), (1.5 * radius, radius), (4 * radius, radius))]
+    angles = phase + 2 * np.pi * np.arange(guides) / guides
+    return rings + [np.c_[meridian[:, 0], meridian[:, 1] * np.cos(a), meridian[:, 1] * np.sin(a)] for a in angles]
+
+
+def test_a_strip_round_a_lip_bounds_its_surfaces():
+    """A nacelle's cowl: 4 guides run from an inner ring forward round the inlet lip and back along
+    three outer rings. Round the lip each guide turns 180 deg, and comparing the normals at its two
+    ends flipped the inner ring's nodes: the strip round the lip made two loops of 9 curves, no
+    surface (stroke_cycles._flip_weak); and its four loops, turning round the lip, have nodes'
+    normals pointing every way round their vector areas (alignment 0.1), though each turns as a
+    disc does (stroke_cycles._turning). All 12 loops are surfaces, the end rings' caps are not."""
+    strokes = _nacelle()
+    pts = np.vstack(strokes)
+    g = build_stroke_graph(strokes, 0.02 * float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))))
+    choice = find_cycles(g)
+    assert len(choice.cycles) == 12
+    used: dict = {}
+    for c in choice.cycles:
+        for e, _ in c.sides:
+            used[e] = used.get(e, 0) + 1
+    ends = {0, 3}                                   # the inner ring and the last outer ring: open ends
+    assert all(used.get(e.id, 0) == (1 if e.stroke in ends else 2) for e in g.edges)
+    assert {frozenset(g.edges[e].stroke for e, _ in c.sides) for c, _ in choice.dropped} == {frozenset({0}), frozenset({3})}
