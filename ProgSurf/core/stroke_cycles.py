@@ -288,20 +288,14 @@ def _flip_weak(graph: StrokeGraph, half: dict, normals: dict, leaving: dict) -> 
     guides), neither a surface, and the inner ring was taken as a stroke inside the surfaces
     behind the outer one, which it pulled 200 mm inwards. leaving: (node, edge id, reversed) ->
     the edge's unit direction leaving that node (_half_edges)."""
+    # the groups: the connected parts (_parts) of the edges turning less; a node on none is alone
+    steady = {eid for (u, eid, rev), t in leaving.items()
+              if float(t @ -leaving[(graph.edges[eid].other(u), eid, not rev)]) >= WEAK_TURN_COS}
+    part_of = {n: k for k, part in enumerate(_parts(graph, steady))
+               for eid in part for n in (graph.edges[eid].node0, graph.edges[eid].node1)}
     groups: dict = {}
-    parent = {n: n for n in normals}
-
-    def root(x: int) -> int:
-        while parent[x] != x:
-            x = parent[x]
-        return x
-
-    for (u, eid, rev), t in leaving.items():
-        v = graph.edges[eid].other(u)
-        if u in parent and v in parent and float(t @ -leaving[(v, eid, not rev)]) >= WEAK_TURN_COS:
-            parent[root(v)] = root(u)
     for n in normals:
-        groups.setdefault(root(n), []).append(n)
+        groups.setdefault(part_of.get(n, ("alone", n)), []).append(n)
     if len(groups) < 2:
         return normals
     best = _discs(graph, half, normals, leaving)
