@@ -138,14 +138,16 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
                             f"{build.failed[0][1]}")
     timings = dict(build.timings_s)
     # a surface's faces and fit deviation depend on its core result (its key) and the continuity
-    keys = [(surf.key, continuity) for surf in build.surfaces]
+    # (and on the directions its side curves leave their nodes in: ObjectSurface.curves_key)
+    keys = [(surf.key, surf.curves_key, continuity) for surf in build.surfaces]
     if continuity == "G1":
         # and in G1 on its neighbours' too (cad.object_g1): on every surface's
-        keys = [(surf.key, continuity, tuple(s.key for s in build.surfaces)) for surf in build.surfaces]
+        keys = [(surf.key, surf.curves_key, continuity, tuple((s.key, s.curves_key) for s in build.surfaces))
+                for surf in build.surfaces]
     kept = [cache.lookup("cad surface", k) if cache is not None else None for k in keys]
     model = build_object_shell([s.result for s in build.surfaces], build.tol, continuity,
                                built=[k[0] if k else None for k in kept],
-                               loops=(build.polylines, [s.cycle.sides for s in build.surfaces]))
+                               loops=(build.polylines, [s.cycle.sides for s in build.surfaces], build.tangents))
     timings.update({f"cad {k}": v for k, v in model.timings_s.items()})
     clock = time.perf_counter()
     measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)

@@ -144,7 +144,8 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     built: per result, its ShellResult made earlier (with this continuity) to take as it is, or
     None to build it (app.objects keeps them for an edited sketch); not in G1 with loops, where the
     faces along a shared curve are made G1 with the other surface's (cad.object_g1).
-    loops: ({graph edge id: (n, 3) points}, per result its cycle's ((graph edge id, reversed), ...)):
+    loops: ({graph edge id: (n, 3) points}, per result its cycle's ((graph edge id, reversed), ...),
+    {(graph edge id, end): (3,) unit direction its curve leaves that node in} (core.node_tangents)):
     each graph edge is then fitted once and every surface's boundary edges are pieces of those
     curves (cad.shared_edges), so that surfaces on one curve share it exactly."""
     clock = time.perf_counter()
@@ -153,10 +154,10 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     built = [None] * len(results) if across_g1 else list(built or [None] * len(results))
     given = [None] * len(results)
     if loops is not None:
-        polylines, sides = loops
+        polylines, sides, tangents = loops
         todo = [k for k, b in enumerate(built) if b is None]
         used = {gid for k in todo for gid, _ in sides[k]}
-        curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm)
+        curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm, tangents)
         for k in todo:
             given[k] = outer_edges(results[k].network, sides[k], curves)
     across, maps, g0 = {}, None, None
@@ -194,7 +195,7 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         # every face gets a vertex at each node of its surface's loop that lies inside one of its
         # edges (a node where two merged sides meet, or corners put elsewhere): the sewing joins
         # edge to edge, and a neighbour's vertex inside an edge left whole surfaces unsewn
-        polylines, sides = loops
+        polylines, sides, _ = loops
         ends = [[np.asarray(polylines[gid][-1] if rev else polylines[gid][0], dtype=float) for gid, rev in loop]
                 for loop in sides]
         faces = [with_vertices(info.face, ends[k]) for k, res in enumerate(built) for info in res.faces]

@@ -39,10 +39,13 @@ SAMPLES = 64
 """Points per graph curve for the first guess of a node's nearest point (then OCC's projection)."""
 
 
-def graph_curves(polylines: dict, fit_mm: float) -> dict:
+def graph_curves(polylines: dict, fit_mm: float, tangents: dict | None = None) -> dict:
     """graph edge id -> SharedCurve: a cubic Part.BSplineCurve on [0, 1] fitted to its points (n, 3) within
     EDGE_FIT_FRACTION of fit_mm, through its two end points (the graph's nodes) exactly; the
-    parameter is the points' cumulative chord length."""
+    parameter is the points' cumulative chord length. tangents: {(graph edge id, end 0 or 1): (3,)
+    unit direction of travel} at the nodes its stroke runs through smoothly (core.node_tangents):
+    the curve has that direction there, so two pieces of one stroke join tangent-continuously."""
+    tangents = tangents or {}
     out = {}
     spacing = DENSE_SPACING * fit_mm
     for gid, pts in polylines.items():
@@ -51,8 +54,11 @@ def graph_curves(polylines: dict, fit_mm: float) -> dict:
         total = float(step.sum())
         prm = np.concatenate([[0.0], np.cumsum(step)]) / total if total > 0 else np.linspace(0.0, 1.0, len(pts))
         prm[-1] = 1.0
+        # the derivative's size is the chord length (the parameter's speed), its direction the node's
+        derivs = {float(end): (np.asarray(tangents[(gid, end)], dtype=float) * total, None)
+                  for end in (0, 1) if (gid, end) in tangents and total > 0}
         curve = fit_points(prm, pts, fit_mm * EDGE_FIT_FRACTION, {0.0: pts[0], 1.0: pts[-1]},
-                           name=f"network curve {gid}", best_effort=True)
+                           name=f"network curve {gid}", derivs=derivs or None, best_effort=True)
         out[gid] = SharedCurve(curve, total)
     return out
 

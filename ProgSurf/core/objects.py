@@ -31,6 +31,7 @@ from .coons import f1
 from .errors import ProgSurfError
 from .fairing import fair_stroke, stroke_tolerance
 from .loop_corners import choose_sides
+from .node_tangents import node_tangents
 from .pipeline import BuildResult, build_network, resolve_tolerances
 from .stroke_cycles import Cycle, CycleChoice, find_cycles, vector_area
 from .stroke_graph import StrokeGraph, build_stroke_graph
@@ -108,6 +109,8 @@ class ObjectSurface:
     key      : digest of everything `result` depends on (surface_key): its side and interior
                polylines and the tolerances it was built with
     reused   : True when `result` was taken from a BuildCache (an earlier build had the same key)
+    curves_key : digest of the directions its side curves must have at the nodes a stroke passes
+               through (ObjectBuild.tangents): its faces depend on them, its core result does not
     """
 
     cycle: Cycle
@@ -117,6 +120,7 @@ class ObjectSurface:
     part: int
     key: bytes = b""
     reused: bool = False
+    curves_key: bytes = b""
 
 
 @dataclass(frozen=True)
@@ -130,6 +134,8 @@ class ObjectBuild:
     tol      : the tolerances used (automatic values resolved from the whole sketch)
     timings_s: seconds: "graph", "cycles", "surfaces"
     polylines: graph edge id -> its faired points (n, 3) (edge_polylines), the surfaces' sides
+    tangents : {(graph edge id, end 0/1): (3,) unit direction} where a stroke runs smoothly through
+               a node (core.node_tangents): the graph edges' curves leave their nodes along these
     """
 
     graph: StrokeGraph
@@ -140,6 +146,7 @@ class ObjectBuild:
     tol: Tolerances
     timings_s: dict = field(default_factory=dict)
     polylines: dict = field(default_factory=dict)
+    tangents: dict = field(default_factory=dict)
 
     @property
     def rebuilt(self) -> tuple:
@@ -235,13 +242,14 @@ def _faired_strokes(filtered: list, tol: Tolerances, cache: Optional[BuildCache]
     return out, origins
 
 
-def edge_polylines(graph: StrokeGraph, faired: list, origins: Optional[list] = None) -> dict:
+def edge_polylines(graph: StrokeGraph, faired: list, origins: Optional[list] = None,
+                   arcs: Optional[dict] = None) -> dict:
     """edge id -> its points cut from the faired stroke (the graph's arc lengths carried onto it,
     _stroke_arcs), ends replaced by its nodes' points on the faired strokes (faired_nodes) exactly,
     and no stroke point left within half the stroke's median chord of them. origins: per stroke,
     the index in its faired points of each filtered point (_faired_strokes); None when each faired
-    stroke has the filtered stroke's points, moved."""
-    arcs = _stroke_arcs(graph, faired, origins)
+    stroke has the filtered stroke's points, moved. arcs: _stroke_arcs, when the caller has them."""
+    arcs = _stroke_arcs(graph, faired, origins) if arcs is None else arcs
     nodes = faired_nodes(graph, faired, origins, arcs)
     out = {}
     for e in graph.edges:
@@ -495,7 +503,9 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
         cache.start()
     graph, choice, tol = network if network is not None else stroke_network(strokes, tol)
     faired, origins = _faired_strokes(list(graph.strokes), tol, cache)
-    polylines = edge_polylines(graph, faired, origins)
+    arcs = _stroke_arcs(graph, faired, origins)
+    polylines = edge_polylines(graph, faired, origins, arcs)
+    tangents = node_tangents(graph, faired, arcs, polylines)
     timings["graph"] = time.perf_counter() - clock
     if not choice.cycles:
         raise ProgSurfError(
@@ -532,10 +542,21 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
             failed.append((cycle, done))
             continue
         surfaces.append(ObjectSurface(cycle, done, tuple(e for e, _ in cycle.sides), tuple(inside),
-                                      part_of[cycle.sides[0][0]], key, reused))
+                                      part_of[cycle.sides[0][0]], key, reused, _curves_key(cycle, tangents)))
     timings["surfaces"] = time.perf_counter() - clock
     return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed),
-                       tol, timings, polylines)
+                       tol, timings, polylines, tangents)
+
+
+def _curves_key(cycle: Cycle, tangents: dict) -> bytes:
+    """A digest of the directions its sides' curves must have at their ends (node_tangents), in loop
+    order (not by graph edge id: ids change when a stroke is added elsewhere)."""
+    parts = []
+    for e, _ in cycle.sides:
+        for end in (0, 1):
+            t = tangents.get((e, end))
+            parts.append(t if t is not None else np.zeros(0))
+    return content_key(*parts)
 
 
 def stroke_network(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances()) -> tuple:
