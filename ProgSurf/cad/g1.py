@@ -338,6 +338,8 @@ class _Seams:
                   else (self._node_target(e.node0), self._node_target(e.node1)))
         ts = np.asarray(ts, dtype=float)
         na, nb, tan, ok = self._pairs(edge_id, ts, known)
+        if edge_id in self.across and self.across[edge_id].follow:
+            na = nb     # the other surface's faces there stay as they are: their normal is the aim
         out = np.zeros((len(ts), 3))
         if not ok.any():
             return out, ok

@@ -17,6 +17,7 @@ share at one place (no one tangent plane there).
 """
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -105,6 +106,9 @@ class Across:
         self.smooth_here = False
         """Whether the two surfaces continue each other along this edge, decided alike on both sides
         (across_maps; smooth() seen from this side alone)."""
+        self.follow = False
+        """The other surface's faces along this edge stay G0 (following): this side's G1 correction
+        aims at their normal instead of the mean of the two (cad.g1._Seams.normals)."""
 
     def _locate(self, points: FloatArray) -> tuple[np.ndarray, FloatArray, np.ndarray]:
         """(side index (m,), its side parameter (m,), (m,) True where within reach) of points (m, 3):
@@ -208,6 +212,33 @@ def across_maps(results: list, networks: list, reach: float) -> list[dict]:
     return out
 
 
+def following(results: list, maps: list) -> list[dict]:
+    """Per surface, the across map (across_maps) to build its G1 faces with again, or None: where the
+    other surface's faces along a smooth shared curve were left G0 (their correction turned them over,
+    cad.g1.smooth_face, or made a new fold, cad.shell.keep_no_new_fold), a side that aimed at the
+    mean of the two normals met a face that did not move and kept half the G0 angle (the TiGL noisy
+    helicopter: 14.7 of 29.4 deg). Those edges get a copy of their Across that follows the other
+    surface's normal (the caller keeps the surface built with it where that leaves a smaller angle:
+    a face that cannot turn the whole way within the bound is scaled down, cad.g1.smooth_face,
+    and can end further from the other than half way). results: the G1 ShellResults, maps:
+    across_maps of their G0 faces."""
+    stayed = []
+    for res in results:
+        turned = {g.region_id for g, _ in res.cache.g1_shapes.values() if g.turned_over}
+        stayed.append(turned | set(res.g1_reverted))
+    out: list = []
+    for found in maps:
+        changed = {}
+        for edge, a in found.items():
+            if a.smooth_here and a.sides and all(s.info.region_id in stayed[s.surface] for s in a.sides):
+                b = copy.copy(a)
+                b.follow = True
+                b.key = a.key + ("follow",)
+                changed[edge] = b
+        out.append({**found, **changed} if changed else None)
+    return out
+
+
 END_CHECK = np.array([0.02, 0.98])
 """Edge parameters next to a piece's ends. There each face leaves the shared curve along the side
 that meets it there (a Coons patch's derivative across a side at a corner is the tangent of the
@@ -258,15 +289,14 @@ TANGENT_DEG = 1.0
 """A shared curve along which the two surfaces' normals stay within this is counted tangent-continuous."""
 
 
-def across_angles(results: list, maps: list) -> dict:
-    """The angles (deg) between the two surfaces' normals along every side of a face on a shared
-    curve that is smooth in G0 (CHECK points, the other's normal turned to agree): the largest, how
-    many such sides stay within TANGENT_DEG, and how many sides of each kind (a shared piece counts
-    once from each of its surfaces; the G1 defect across surfaces: 0 where tangent-continuous).
-    results: the built ShellResults (their faces: G0 or G1), maps: across_maps of their G0 faces."""
-    worst, smooth, sharp, tangent = 0.0, 0, 0, 0
+def _side_angles(results: list, maps: list, only=None):
+    """(surface index, smooth: bool, the largest angle (deg) between the two surfaces' normals at
+    CHECK, 0 on a sharp side) per side of a G0 face on a shared curve (across_angles), of every
+    surface or of the surface indices in `only`."""
     finals = [{info.region_id: info for info in res.faces} for res in results]
-    for res, final, found in zip(results, finals, maps):
+    for n, (res, final, found) in enumerate(zip(results, finals, maps)):
+        if only is not None and n not in only:
+            continue
         for info in res.g0_faces or res.faces:
             for k, pieces in enumerate(info.sides):
                 for p in pieces:
@@ -274,9 +304,8 @@ def across_angles(results: list, maps: list) -> dict:
                     if a is None:
                         continue
                     if not a.smooth_here:
-                        sharp += 1
+                        yield n, False, 0.0
                         continue
-                    smooth += 1
                     w = p.a + CHECK * (p.b - p.a)
                     points, ds, dr = final[info.region_id].derived.derivatives.evaluate(*_side_points(k, w))
                     na, ok_a = unit_normals(ds, dr)
@@ -286,8 +315,27 @@ def across_angles(results: list, maps: list) -> dict:
                     nb, ok_b = other.normals(points)
                     ok = ok_a & ok_b
                     angle = np.degrees(np.arccos(np.clip(np.abs(np.einsum("ij,ij->i", na, nb))[ok], 0.0, 1.0)))
-                    top = float(angle.max()) if len(angle) else 0.0
-                    worst = max(worst, top)
-                    tangent += top <= TANGENT_DEG
-    return {"smooth_sides": smooth, "sharp_sides": sharp, "tangent_sides": tangent, "angle_max_deg": worst}
+                    yield n, True, float(angle.max()) if len(angle) else 0.0
 
+
+def worst_side_deg(results: list, maps: list, surface: int) -> float:
+    """The largest angle (deg) between one surface's normals and its neighbours' along the smooth
+    curves it shares (_side_angles; 0 without)."""
+    return max((top for _, smooth, top in _side_angles(results, maps, {surface}) if smooth), default=0.0)
+
+
+def across_angles(results: list, maps: list) -> dict:
+    """The angles (deg) between the two surfaces' normals along every side of a face on a shared
+    curve that is smooth in G0 (CHECK points, the other's normal turned to agree): the largest, how
+    many such sides stay within TANGENT_DEG, and how many sides of each kind (a shared piece counts
+    once from each of its surfaces; the G1 defect across surfaces: 0 where tangent-continuous).
+    results: the built ShellResults (their faces: G0 or G1), maps: across_maps of their G0 faces."""
+    worst, smooth, sharp, tangent = 0.0, 0, 0, 0
+    for _, is_smooth, top in _side_angles(results, maps):
+        if not is_smooth:
+            sharp += 1
+            continue
+        smooth += 1
+        worst = max(worst, top)
+        tangent += top <= TANGENT_DEG
+    return {"smooth_sides": smooth, "sharp_sides": sharp, "tangent_sides": tangent, "angle_max_deg": worst}

@@ -24,7 +24,7 @@ from ..core.strokes import sketch_diagonal
 from ..core.types import Tolerances
 from ._occ import Part
 from .g1 import OFFSET_FRACTION
-from .object_g1 import across_angles, across_folds, across_maps
+from .object_g1 import across_angles, across_folds, across_maps, following, worst_side_deg
 from .shared_edges import graph_curves, outer_edges
 from .shell import build_shell
 
@@ -171,6 +171,15 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         limit = OFFSET_FRACTION * sketch_diagonal(np.vstack([np.asarray(p) for p in polylines.values()]))
         built = [build_shell(r.network, r.tol, continuity="G1", previous=b0, given=g, across=m, g1_limit_mm=limit)
                  for r, b0, g, m in zip(results, g0, given, maps)]
+        # a side whose other surface's faces stayed G0 there aims at their normal: built again,
+        # and kept where it then meets its neighbours more closely
+        for k, m in enumerate(following(built, maps)):
+            if m is not None:
+                trial = build_shell(results[k].network, results[k].tol, continuity="G1", previous=g0[k], given=given[k],
+                                    across=m, g1_limit_mm=limit)
+                swapped = built[:k] + [trial] + built[k + 1:]
+                if worst_side_deg(swapped, maps, k) < worst_side_deg(built, maps, k):
+                    built = swapped
         across = across_angles(built, maps)
         before = across_angles(g0, maps)
         across.update({"g0_angle_max_deg": before["angle_max_deg"], "g0_tangent_sides": before["tangent_sides"]})
