@@ -375,6 +375,28 @@ def test_a_ring_drawn_with_a_gap_closes():
     assert not [n for n in g.nodes if n.kind == "end" and abs(n.point[2]) < 1]
 
 
+@pytest.mark.parametrize("share", [0.04, 0.06, 0.09])
+def test_a_tube_whose_rims_are_drawn_short_of_their_seams_closes(share):
+    """A cylinder (radius 50, height 120) whose two rims stop `share` of their length short of
+    where they began (13-28 mm: 2.5-5.7 delta at delta 5, beyond the 2 delta a ring closes within)
+    and four rulings: each rim is a ring with a gap at its seam and is bridged there
+    (stroke_graph._ring_bridge), so
+    the tube is 4 loops with no end node (before: a rim beyond 3 delta stayed a dangling chain and
+    the tube lost a strip). An arc of 300 deg (a C: its ends 1/6 of it apart) stays open."""
+    delta = 5.0
+    strokes = cylinder(radius=50.0, height=120.0)
+    for k in (0, 1):
+        th = np.linspace(0.0, 2 * np.pi * (1.0 - share), 160) + (0.7 if k else 0.0)
+        strokes[k] = np.c_[50 * np.cos(th), 50 * np.sin(th), np.full_like(th, 120.0 * k)]
+    g = build_stroke_graph(strokes, delta)
+    assert not [n for n in g.nodes if n.kind == "end"]
+    assert all("ring closed" in g.notes[k] for k in (0, 1))
+    assert len(find_cycles(g).cycles) == 4
+    th = np.linspace(0.0, 2 * np.pi * 5 / 6, 160)
+    c = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th], line([0, -60, 0], [0, 60, 0])], delta)
+    assert len([n for n in c.nodes if n.kind == "end"]) == 2 and "ring closed" not in c.notes.get(0, "")
+
+
 def test_a_node_where_two_strokes_run_on_in_line_does_not_judge_a_face():
     """A body of revolution (the project's object generator, benchmarks/objects.py: 4 guides, 3
     rings, a hand's noise): two of its guides meet end to end near a tip, a node of two edges
