@@ -22,6 +22,10 @@ CASSIE (Yu et al., CHI 2021) publishes:
 - two strokes that run side by side, away from their ends, further apart than SIDE_GAP x delta
   (yet within delta) do not touch there: curves of one family drawn close together, a boom's
   guides (_side_by_side);
+- a stroke end that stopped short of another stroke, heading for it, is extended to it (EXTEND);
+  two that stopped short of their corner meet there (_corner_gaps); a ring whose ends stop short
+  of its seam, heading for each other, is bridged (_ring_bridge); three or more ends whose lines
+  pass close to one point near them meet at that point (_meeting_ends: a cone's tip, a box's corner);
 - an end piece beyond the stroke's last node no longer than HOOK x delta and HOOK_FRACTION of the
   stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1.
 
@@ -68,6 +72,13 @@ was left a dangling chain: a tube with one of its strips missing and "quality: o
 
 RING_DEG = 25.0
 """... (both ends: a C whose ends point past each other, or one end only, is not closed)."""
+
+MEET_ENDS = 3
+"""At least this many stroke ends (of as many strokes) that lie within EXTEND x delta of one another,
+near no other stroke's middle, and whose lines pass within delta of one point, meet at that point
+(_meeting_ends): a cone's rulings drawn to its tip, a box's three edges to their corner, each
+stopping short or running over by a few delta. Taken two at a time (T-nodes, corner gaps) they made
+two or three nodes round the tip, and the loops between them were slivers or missing."""
 
 EXTEND_DEG = 15.0
 """How far off a stroke end's direction (its last delta) the curve it stopped short of may lie."""
@@ -297,17 +308,128 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCa
               [(i, sa), (j, sb)])
 
 
+def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: NodeCandidates) -> set:
+    """Groups of MEET_ENDS or more stroke ends that meet at one point (MEET_ENDS): one node
+    candidate each, at the point nearest to the ends' lines (each stroke attached at its place
+    nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
+    further than a hook is cut, HOOK and HOOK_FRACTION, is not one of them: the two halves of a
+    curve drawn in two overlapping strokes, where a third ends). Returns the (stroke, end arc
+    length) of the ends joined."""
+    reach = EXTEND * delta
+    closed = {i for i in live if np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= PROXIMITY * delta}
+    ends = []
+    for i in live:
+        total = float(cums[i][-1])
+        if total <= 4 * reach or i in closed:
+            continue        # short strokes and closed ones: the other rules
+        for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
+            d = _end_direction(strokes[i], cums[i], s_end, delta)
+            if d is None:
+                continue
+            # an end beside another stroke's middle (further from its ends than two reaches: one
+            # may run over the meeting point by a reach) is a T-node, not one of a meeting of ends
+            middle = False
+            for j in live:
+                if j == i:
+                    continue
+                dist, sj = nearest_on(p[None], strokes[j], cums[j])
+                # (a closed stroke, a ring, is all middle)
+                if dist[0] <= PROXIMITY * delta and (min(sj[0], cums[j][-1] - sj[0]) > 2 * reach
+                                                     or j in closed):
+                    middle = True
+                    break
+            if not middle:
+                ends.append((i, s_end, p, d))
+    if len(ends) < MEET_ENDS:
+        return set()
+    pts = np.array([e[2] for e in ends])
+    near = np.linalg.norm(pts[:, None] - pts[None], axis=2) <= 2 * reach     # both within reach of one point
+    label = list(range(len(ends)))
+
+    def find(x: int) -> int:
+        while label[x] != x:
+            label[x] = label[label[x]]
+            x = label[x]
+        return x
+
+    for a, b in zip(*np.nonzero(np.triu(near, 1))):
+        if ends[a][0] != ends[b][0]:
+            label[find(a)] = find(b)
+    groups: dict = {}
+    for k in range(len(ends)):
+        groups.setdefault(find(k), []).append(k)
+    done: set = set()
+    for ks in groups.values():
+        x = None
+        while len(ks) >= MEET_ENDS and len({ends[k][0] for k in ks}) == len(ks):
+            # the point nearest to the ends' lines (least squares); every line must pass within
+            # delta of it and every end lie within reach: else the end furthest off is left out
+            a_sum, b_sum = np.zeros((3, 3)), np.zeros(3)
+            for k in ks:
+                _, _, p, d = ends[k]
+                m = np.eye(3) - np.outer(d, d)
+                a_sum += m
+                b_sum += m @ p
+            if np.linalg.cond(a_sum) > 1e6:
+                break
+            x = np.linalg.solve(a_sum, b_sum)
+            # (how far each line passes from it, how far its end lies, how far it ran past it)
+            off = [max(float(np.linalg.norm((np.eye(3) - np.outer(ends[k][3], ends[k][3])) @ (x - ends[k][2]))) / delta,
+                       float(np.linalg.norm(x - ends[k][2])) / reach,
+                       max(-float(ends[k][3] @ (x - ends[k][2])), 0.0)
+                       / min(HOOK * delta, HOOK_FRACTION * float(cums[ends[k][0]][-1]))) for k in ks]
+            if max(off) <= 1.0:
+                break
+            ks = [k for k, o in zip(ks, off) if o < max(off)]
+            x = None
+        if x is None or len(ks) < MEET_ENDS or max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
+            continue        # (ends drawn to within delta of the point: they touch there, the other rules join them)
+        attach = []
+        for k in ks:
+            i, s_end, _, _ = ends[k]
+            _, s_near = nearest_on(x[None], strokes[i], cums[i])
+            s_at = float(s_near[0]) if abs(float(s_near[0]) - s_end) <= reach else s_end
+            attach.append((i, s_at))
+            done.add((i, s_end))
+        # the places where these strokes touch one another near the meeting (the crossings of ends
+        # run over it, an end passing another) are that meeting: left to it alone (a second
+        # candidate on one of their ends made a second node beside it, and a sliver between)
+        place = dict(attach)
+        end_of = {ends[k][0]: ends[k][1] for k in ks}
+
+        def cut(i: int, sc: float) -> bool:
+            """On stroke i's piece past the meeting: cut away."""
+            return i in place and (sc < place[i] - 1e-9 if end_of[i] == 0.0 else sc > place[i] + 1e-9)
+
+        def at_meeting(i: int, sc: float) -> bool:
+            """Cut away, or within 2 delta of the meeting on stroke i."""
+            return i in place and (cut(i, sc) or abs(sc - place[i]) <= 2 * delta)
+
+        keep = [c for c in range(len(cands.points))
+                if not (np.linalg.norm(cands.points[c] - x) <= 2 * reach
+                        and (all(at_meeting(i, sc) for i, sc in cands.attach[c])
+                             or any(cut(i, sc) for i, sc in cands.attach[c])))]
+        cands.points[:] = [cands.points[c] for c in keep]
+        cands.attach[:] = [cands.attach[c] for c in keep]
+        cands.add(x, attach)
+    return done
+
+
 def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -> None:
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
-    own other end, for a closed stroke) is joined to its nearest point there."""
+    own other end, for a closed stroke) is joined to its nearest point there; ends that meet at one
+    point (_meeting_ends) are joined there first."""
     reach = PROXIMITY * delta
     boxes = _Boxes(strokes)
     cums = {i: cumulative_length(strokes[i]) for i in live}
+    met = _meeting_ends(strokes, cums, live, delta, cands)
     free = []
     for i in live:
         total = chord_length(strokes[i])
         closes = total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
+            if (i, 0.0 if s_end == 0.0 else float(cums[i][-1])) in met:
+                continue
             best = None
             near = boxes.close_to(p, p, reach)
             for j in live:

@@ -203,13 +203,14 @@ CAR = DATA / "cassie" / "vintage_car.xyz"
 
 
 def test_creases_between_surfaces_that_no_stroke_draws_are_reported():
-    """A rough body of revolution from the project's object generator (benchmarks/objects.py,
-    body 7001, --rough): two of its neighbouring loops fold onto each other along the stroke they
-    share, where the strokes at the ends make them meet at a far smaller angle. The verdict names
-    them and the report lists each with the stroke it runs along (cad.object_g1.across_folds); the
-    exact tapered tube and the cube have none (test_objects). (The noisy TiGL helicopter had 3
-    such creases until its boom's guides stopped being pinched together; vintage_car had 10
-    while edges jumped to their nodes in one segment.)"""
+    """A body of revolution from the project's object generator (benchmarks/objects.py, body
+    2004): two of its neighbouring loops fold onto each other along the stroke they share, where
+    the strokes at the ends make them meet at a far smaller angle. The verdict names them and the
+    report lists each with the stroke it runs along (cad.object_g1.across_folds); the exact
+    tapered tube and the cube have none (test_objects). (The noisy TiGL helicopter had 3 such
+    creases until its boom's guides stopped being pinched together; vintage_car had 10 while
+    edges jumped to their nodes in one segment; the rough body 7001 had one until the ends of its
+    meridians that miss its tip met there, stroke_graph._meeting_ends.)"""
     import sys
 
     sys.path.insert(0, str(ROOT))
@@ -217,7 +218,7 @@ def test_creases_between_surfaces_that_no_stroke_draws_are_reported():
     from ProgSurf.app.objects import build_object_and_measure, object_report
     from ProgSurf.cad.object_g1 import FOLD_RISE_DEG
 
-    out = build_object_and_measure(make_object("body", 7001, rough=True).strokes)
+    out = build_object_and_measure(make_object("body", 2004).strokes)
     found = out.model.folds_across
     assert len(found) >= 1
     assert all(f["angle_deg"] > f["ends_deg"] + FOLD_RISE_DEG for f in found)

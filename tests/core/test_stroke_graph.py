@@ -397,6 +397,46 @@ def test_a_tube_whose_rims_are_drawn_short_of_their_seams_closes(share):
     assert len([n for n in c.nodes if n.kind == "end"]) == 2 and "ring closed" not in c.notes.get(0, "")
 
 
+def test_ends_that_stop_short_of_or_run_over_one_point_meet_there():
+    """A cone (base ring radius 50, tip 100 above it) whose six rulings end 1-2.5 delta short of
+    or past the tip (delta 5), and a cube whose three edges at one corner each stop 2 delta short
+    of it: the rulings meet at the tip, the edges at the corner, one node each
+    (stroke_graph._meeting_ends): the cone is 6 loops, the cube 6 (before: 3 nodes round the tip
+    and 3 loops, 2 nodes at the corner and 4 loops). Three strokes whose ends lie as close but
+    whose lines pass far apart do not meet."""
+    delta = 5.0
+    tip = np.array([0.0, 0.0, 100.0])
+    th = np.linspace(0, 2 * np.pi, 200)
+    rulings = []
+    for k, over in enumerate([-2.5, 1.5, -1.0, 2.5, -2.0, 1.0]):
+        a = 2 * np.pi * k / 6 + 0.3
+        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
+    g = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, delta)
+    near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 4 * delta]
+    assert len(near) == 1 and np.linalg.norm(near[0].point - tip) < 0.5 * delta
+    assert len(find_cycles(g).cycles) == 6
+
+    corner = np.array([100.0, 100.0, 100.0])
+    edges = []
+    for e in cube_edges(size=100.0, n=40):
+        for end in (0, -1):
+            if np.linalg.norm(e[end] - corner) < 1e-9:
+                other = e[-1 - end]
+                stop = corner - 2.0 * delta * (corner - other) / 100.0
+                e = line(stop, other, 40) if end == 0 else line(other, stop, 40)
+        edges.append(e)
+    g = build_stroke_graph(edges, delta)
+    near = [n for n in g.nodes if np.linalg.norm(n.point - corner) < 4 * delta]
+    assert len(near) == 1 and np.linalg.norm(near[0].point - corner) < 0.5 * delta
+    assert len(find_cycles(g).cycles) == 6 and not [n for n in g.nodes if n.kind == "end"]
+
+    # three ends within 2 delta of one another, their lines 4 delta apart: no meeting
+    apart = [line([0, 0, 0], [60, 0, 0]), line([64, 6, 20], [64, 6, 80]), line([66, -6, -80], [66, -6, -20])]
+    g = build_stroke_graph(apart + [line([0, 0, 0], [0, 40, 40])], delta)
+    assert not [n for n in g.nodes if n.kind != "end" and np.linalg.norm(n.point - [64, 0, 0]) < 4 * delta]
+
+
 def test_a_node_where_two_strokes_run_on_in_line_does_not_judge_a_face():
     """A body of revolution (the project's object generator, benchmarks/objects.py: 4 guides, 3
     rings, a hand's noise): two of its guides meet end to end near a tip, a node of two edges
