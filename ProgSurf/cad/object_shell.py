@@ -175,8 +175,8 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         # and kept where it then meets its neighbours more closely
         for k, m in enumerate(following(built, maps)):
             if m is not None:
-                trial = build_shell(results[k].network, results[k].tol, continuity="G1", previous=g0[k], given=given[k],
-                                    across=m, g1_limit_mm=limit)
+                trial = build_shell(results[k].network, results[k].tol, continuity="G1", previous=built[k],
+                                    given=given[k], across=m, g1_limit_mm=limit)
                 swapped = built[:k] + [trial] + built[k + 1:]
                 if worst_side_deg(swapped, maps, k) < worst_side_deg(built, maps, k):
                     built = swapped

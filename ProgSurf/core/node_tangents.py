@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .continuity import KINK_ANGLE_DEG, unit
 from .strokes import cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -31,21 +32,16 @@ AGREE_DEG = 10.0
 """... and where both edges' polylines leave the node within this of that direction."""
 LEAVE_SHARE = 0.1
 """A polyline's direction at its node is read at this share of its length (at most REACH_DELTA)."""
-KINK_DEG = 30.0
+KINK_DEG = KINK_ANGLE_DEG
 """A stroke turning at a node by more than this (its chords on either side) is sharp there
 (core.continuity.KINK_ANGLE_DEG, the rule for a stroke drawn with a kink)."""
-
-
-def _unit(v: FloatArray) -> FloatArray:
-    n = float(np.linalg.norm(v))
-    return v / n if n > 0 else np.zeros(3)
 
 
 def _leaves_along(points: FloatArray, direction: FloatArray, reach: float) -> bool:
     """Whether a polyline (n, 3) leaves its first point within AGREE_DEG of `direction`, read at
     LEAVE_SHARE of its length (at most `reach`)."""
     cum = cumulative_length(points)
-    d = _unit(point_at_length(points, min(LEAVE_SHARE * float(cum[-1]), reach), cum) - points[0])
+    d = unit(point_at_length(points, min(LEAVE_SHARE * float(cum[-1]), reach), cum) - points[0])
     return bool(d.any()) and float(d @ direction) >= np.cos(np.radians(AGREE_DEG))
 
 
@@ -81,10 +77,10 @@ def node_tangents(graph, faired: list, arcs: dict, polylines: dict) -> dict:
             before = point_at_length(src, max(a - reach, 0.0), cum)
             at = 0.5 * (point_at_length(src, a, cum) + point_at_length(src, b, cum))
             after = point_at_length(src, min(b + reach, total), cum)
-            din, dout = _unit(at - before), _unit(after - at)
+            din, dout = unit(at - before), unit(after - at)
             if not din.any() or not dout.any() or float(din @ dout) < cos_kink:
                 continue
-            t = _unit(after - before)
+            t = unit(after - before)
             # the edges' points, cut to the node and eased, can leave it otherwise (a hook eased
             # away, a node beside the stroke): a curve held to the stroke's direction there
             # would turn back to its points within the fit tolerance, a crease

@@ -40,7 +40,7 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from .stroke_nodes import (NodeCandidates, apex_meeting, components, ends_in, merge_candidates, nearest_on,
+from .stroke_nodes import (Links, NodeCandidates, apex_meeting, components, ends_in, merge_candidates, nearest_on,
                            seam_twins, segment_distances)
 from .continuity import hermite_basis
 from .strokes import chord_length, cumulative_length, point_at_length
@@ -308,13 +308,14 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCa
               [(i, sa), (j, sb)])
 
 
-def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: NodeCandidates) -> set:
+def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: NodeCandidates,
+                  boxes: "_Boxes") -> set:
     """Groups of MEET_ENDS or more stroke ends that meet at one point (MEET_ENDS): one node
     candidate each, at the point nearest to the ends' lines (each stroke attached at its place
     nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
     further than a hook is cut, HOOK and HOOK_FRACTION, is not one of them: the two halves of a
-    curve drawn in two overlapping strokes, where a third ends). Returns the (stroke, end arc
-    length) of the ends joined."""
+    curve drawn in two overlapping strokes, where a third ends). Strokes no longer than 4 EXTEND x
+    delta and closed ones take no part. Returns the (stroke, end arc length) of the ends joined."""
     reach = EXTEND * delta
     closed = {i for i in live if np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= PROXIMITY * delta}
     ends = []
@@ -327,15 +328,15 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
             if d is None:
                 continue
             # an end beside another stroke's middle (further from its ends than two reaches: one
-            # may run over the meeting point by a reach) is a T-node, not one of a meeting of ends
+            # may run over the meeting point by a reach; a closed stroke is all middle) is a
+            # T-node, not one of a meeting of ends
             middle = False
+            near = boxes.close_to(p, p, PROXIMITY * delta)
             for j in live:
-                if j == i:
+                if j == i or not near[j]:
                     continue
                 dist, sj = nearest_on(p[None], strokes[j], cums[j])
-                # (a closed stroke, a ring, is all middle)
-                if dist[0] <= PROXIMITY * delta and (min(sj[0], cums[j][-1] - sj[0]) > 2 * reach
-                                                     or j in closed):
+                if dist[0] <= PROXIMITY * delta and (min(sj[0], cums[j][-1] - sj[0]) > 2 * reach or j in closed):
                     middle = True
                     break
             if not middle:
@@ -343,27 +344,21 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
     if len(ends) < MEET_ENDS:
         return set()
     pts = np.array([e[2] for e in ends])
-    near = np.linalg.norm(pts[:, None] - pts[None], axis=2) <= 2 * reach     # both within reach of one point
-    label = list(range(len(ends)))
-
-    def find(x: int) -> int:
-        while label[x] != x:
-            label[x] = label[label[x]]
-            x = label[x]
-        return x
-
-    for a, b in zip(*np.nonzero(np.triu(near, 1))):
-        if ends[a][0] != ends[b][0]:
-            label[find(a)] = find(b)
-    groups: dict = {}
-    for k in range(len(ends)):
-        groups.setdefault(find(k), []).append(k)
+    links = Links(len(ends))
+    for a, b in zip(*np.nonzero(np.triu(np.linalg.norm(pts[:, None] - pts[None], axis=2) <= 2 * reach, 1))):
+        if ends[a][0] != ends[b][0]:        # (both within reach of one point)
+            links.join(a, b)
     done: set = set()
-    for ks in groups.values():
-        x = None
-        while len(ks) >= MEET_ENDS and len({ends[k][0] for k in ks}) == len(ks):
+    for ks in links.groups():
+        # one end per stroke: the one nearer the group (a stroke drawn out from it and back)
+        centre = pts[ks].mean(axis=0)
+        ks = [min((k for k in ks if ends[k][0] == i), key=lambda k: float(np.linalg.norm(pts[k] - centre)))
+              for i in sorted({ends[k][0] for k in ks})]
+        x, places = None, {}
+        while len(ks) >= MEET_ENDS:
             # the point nearest to the ends' lines (least squares); every line must pass within
-            # delta of it and every end lie within reach: else the end furthest off is left out
+            # delta of it, every end lie within reach and have run past it no further than a hook
+            # is cut (arc length): else the end furthest off is left out
             a_sum, b_sum = np.zeros((3, 3)), np.zeros(3)
             for k in ks:
                 _, _, p, d = ends[k]
@@ -373,11 +368,15 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
             if np.linalg.cond(a_sum) > 1e6:
                 break
             x = np.linalg.solve(a_sum, b_sum)
-            # (how far each line passes from it, how far its end lies, how far it ran past it)
-            off = [max(float(np.linalg.norm((np.eye(3) - np.outer(ends[k][3], ends[k][3])) @ (x - ends[k][2]))) / delta,
-                       float(np.linalg.norm(x - ends[k][2])) / reach,
-                       max(-float(ends[k][3] @ (x - ends[k][2])), 0.0)
-                       / min(HOOK * delta, HOOK_FRACTION * float(cums[ends[k][0]][-1]))) for k in ks]
+            off = []
+            for k in ks:
+                i, s_end, p, d = ends[k]
+                _, s_near = nearest_on(x[None], strokes[i], cums[i])
+                places[k] = float(s_near[0])
+                past = abs(places[k] - s_end) if float(d @ (x - p)) < 0.0 else 0.0
+                off.append(max(float(np.linalg.norm((np.eye(3) - np.outer(d, d)) @ (x - p))) / delta,
+                               float(np.linalg.norm(x - p)) / reach,
+                               past / min(HOOK * delta, HOOK_FRACTION * float(cums[i][-1]))))
             if max(off) <= 1.0:
                 break
             ks = [k for k, o in zip(ks, off) if o < max(off)]
@@ -387,9 +386,7 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
         attach = []
         for k in ks:
             i, s_end, _, _ = ends[k]
-            _, s_near = nearest_on(x[None], strokes[i], cums[i])
-            s_at = float(s_near[0]) if abs(float(s_near[0]) - s_end) <= reach else s_end
-            attach.append((i, s_at))
+            attach.append((i, places[k] if abs(places[k] - s_end) <= reach else s_end))
             done.add((i, s_end))
         # the places where these strokes touch one another near the meeting (the crossings of ends
         # run over it, an end passing another) are that meeting: left to it alone (a second
@@ -422,7 +419,7 @@ def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -
     reach = PROXIMITY * delta
     boxes = _Boxes(strokes)
     cums = {i: cumulative_length(strokes[i]) for i in live}
-    met = _meeting_ends(strokes, cums, live, delta, cands)
+    met = _meeting_ends(strokes, cums, live, delta, cands, boxes)
     free = []
     for i in live:
         total = chord_length(strokes[i])
@@ -483,8 +480,8 @@ def _ring_bridge(stroke: FloatArray, delta: float) -> FloatArray | None:
     cos = np.cos(np.radians(RING_DEG))
     if float(leave_end @ gap) < cos * size or float(-(leave_start @ gap)) < cos * size:
         return None
-    step = float(np.median(np.diff(cum))) if len(cum) > 1 else size
-    t = np.linspace(0.0, 1.0, max(int(np.ceil(size / max(step, 1e-12))), 2) + 1)[1:]
+    step = total / max(len(stroke) - 1, 1)      # (the mean: repeated points leave the median at 0)
+    t = np.linspace(0.0, 1.0, min(max(int(np.ceil(size / step)), 2), len(stroke)) + 1)[1:]
     return hermite_basis(t) @ np.array([stroke[-1], size * leave_end, -size * leave_start, stroke[0]])
 
 
@@ -572,10 +569,11 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     it has none."""
     arrays = [np.asarray(s, dtype=float).reshape(-1, 3) for s in strokes]
     notes: dict = {}
+    bridged: dict = {}
     for i, a in enumerate(arrays):
         bridge = _ring_bridge(a, delta) if len(a) >= 3 else None
         if bridge is not None:
-            notes[i] = f"ring closed across the gap of {np.linalg.norm(a[0] - a[-1]):.3g} mm at its seam"
+            bridged[i] = f"ring closed across the gap of {np.linalg.norm(a[0] - a[-1]):.3g} mm at its seam"
             arrays[i] = np.vstack([a, bridge])
     lengths = [chord_length(a) for a in arrays]
     short = {i for i, L in enumerate(lengths) if L <= delta}
@@ -693,6 +691,8 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     for i in live:
         if not any(e.stroke == i for e in graph_edges):
             notes.setdefault(i, "no piece of it is left between nodes")
+    for i, text in bridged.items():
+        notes[i] = text + (f"; {notes[i]}" if i in notes else "")
     return StrokeGraph(tuple(nodes), graph_edges, float(delta), tuple(arrays), notes, merged)
 
 

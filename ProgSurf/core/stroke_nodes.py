@@ -185,6 +185,30 @@ def seam_twins(comps: list, dist: FloatArray, closed_a: bool, closed_b: bool, ru
     return [n for n in range(len(comps)) if n not in drop]
 
 
+class Links:
+    """Groups of items 0..n-1 joined two at a time (union-find with path halving)."""
+
+    def __init__(self, n: int) -> None:
+        self.parent = list(range(n))
+
+    def find(self, x: int) -> int:
+        parent = self.parent
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    def join(self, a: int, b: int) -> None:
+        self.parent[self.find(a)] = self.find(b)
+
+    def groups(self) -> list:
+        """[[items of one group, ascending]], in order of their first item."""
+        out: dict = {}
+        for k in range(len(self.parent)):
+            out.setdefault(self.find(k), []).append(k)
+        return list(out.values())
+
+
 class NodeCandidates:
     """Node candidates: each a point and the (stroke, arc length) attachments it stands for."""
 
@@ -249,16 +273,9 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
             if i not in ends:
                 ends[i] = float(cumulative_length(strokes[i])[-1])
         inner.append(min(min(s, ends[i] - s) for i, s in att))
-    parent = list(range(n))
-
-    def find(x: int) -> int:
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
+    links = Links(n)
     for a, b in zip(*np.nonzero(np.triu(d <= delta, 1))):
-        root_a, root_b = find(a), find(b)
+        root_a, root_b = links.find(a), links.find(b)
         if root_a == root_b:
             continue
         shared = sets[a] & sets[b]
@@ -274,5 +291,5 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
                             inner[x] > MIDDLE_REACH * delta for x in (a, b, c))
             if d[a, b] > JUNCTION_SPREAD * spread and not crossing:
                 continue
-        parent[root_a] = root_b
-    return [find(k) for k in range(n)]
+        links.parent[root_a] = root_b
+    return [links.find(k) for k in range(n)]

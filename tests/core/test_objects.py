@@ -359,7 +359,7 @@ def test_g1_across_a_noisy_grid_meets_tangent_continuously_up_to_its_crossings()
     four surfaces at a crossing took their tangent planes there from different pairs of pieces:
     G1 left up to 2.1 deg next to the ends of 2 of 12 and 2 of 20 smooth shared sides. With one
     direction per stroke at each node it runs through (core.node_tangents) and the twist
-    compromise confined to the last 4 % of a side (cad.g1.END_KNOTS), every smooth side meets its
+    compromise confined to the last 4 % of a side (cad.g1.ACROSS_END_KNOTS), every smooth side meets its
     neighbour within a degree."""
     rng_strokes = []
     for seed in (1, 2):

@@ -431,10 +431,15 @@ def test_ends_that_stop_short_of_or_run_over_one_point_meet_there():
     assert len(near) == 1 and np.linalg.norm(near[0].point - corner) < 0.5 * delta
     assert len(find_cycles(g).cycles) == 6 and not [n for n in g.nodes if n.kind == "end"]
 
-    # three ends within 2 delta of one another, their lines 4 delta apart: no meeting
-    apart = [line([0, 0, 0], [60, 0, 0]), line([64, 6, 20], [64, 6, 80]), line([66, -6, -80], [66, -6, -20])]
-    g = build_stroke_graph(apart + [line([0, 0, 0], [0, 40, 40])], delta)
-    assert not [n for n in g.nodes if n.kind != "end" and np.linalg.norm(n.point - [64, 0, 0]) < 4 * delta]
+    # three ends within 14 mm of one point (2.7 delta), their lines 12 mm (2.4 delta) from it: no
+    # meeting; with delta 13 (the lines within delta of the point) they meet there
+    apart = [line([-140, 0, 0], [60, 0, 0], 80), line([64, 12, 200], [64, 12, 6], 80),
+             line([68, -12, -200], [68, -12, -6], 80)]
+    for d, meet in ((delta, False), (13.0, True)):
+        g = build_stroke_graph(apart, d)
+        joined = [n for n in g.nodes if np.linalg.norm(n.point - [66, 0, 0]) < 3 * d
+                  and sum((e.node0 == n.id) + (e.node1 == n.id) for e in g.edges) >= 3]
+        assert bool(joined) == meet, (d, [(n.kind, n.point) for n in g.nodes])
 
 
 def test_a_node_where_two_strokes_run_on_in_line_does_not_judge_a_face():
