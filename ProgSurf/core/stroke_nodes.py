@@ -291,5 +291,5 @@ def merge_candidates(cands: NodeCandidates, strokes: Sequence[FloatArray], delta
                             inner[x] > MIDDLE_REACH * delta for x in (a, b, c))
             if d[a, b] > JUNCTION_SPREAD * spread and not crossing:
                 continue
-        links.parent[root_a] = root_b
+        links.join(root_a, root_b)
     return [links.find(k) for k in range(n)]
