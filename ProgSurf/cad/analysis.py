@@ -74,10 +74,39 @@ def _seam_samples(a: tuple, b: tuple, t: FloatArray) -> tuple[FloatArray, FloatA
         qa = np.array(tuple(fa.surface.value(sa, ra)))
         qb = np.array(tuple(fb.surface.value(sb, rb)))
         gaps[i] = float(np.linalg.norm(qa - qb))
-        na, nb = unit_normal(fa.surface, sa, ra), unit_normal(fb.surface, sb, rb)
+        inner = 0.0 < x < 1.0
+        na, nb = side_normal(fa.surface, sa, ra, inner), side_normal(fb.surface, sb, rb, inner)
         if na is not None and nb is not None:
             angles[i] = float(np.degrees(np.arccos(np.clip(na @ nb, -1.0, 1.0))))
     return gaps, angles
+
+
+LIMIT_STEPS = (1e-3, 1e-2)
+"""Steps (of the face's parameter range) into a face at which side_normal reads the limit of its
+normal where the normal on the side itself is undefined."""
+
+
+def side_normal(surface, s: float, r: float, limit: bool = True) -> FloatArray | None:
+    """unit_normal at the side point (s, r) of a face on [0, 1]^2; where it is undefined there and
+    `limit`, its limit from inside the face: the normal a small step (LIMIT_STEPS) in from the
+    side, as OCC's BRepLProp reads it from higher derivatives. A Coons patch whose two sides
+    adjacent to a side are both points (a lens of two curves) has no cross derivative along it:
+    its normal is undefined along the whole side, and a seam there read no angle at all while
+    the limit was 50-80 deg off the neighbour's (sketchgen 153000 sk_octant_8: a fin in the STEP
+    file that the report and the fold check both missed). None where the limit is undefined too
+    (a collapsed corner)."""
+    n = unit_normal(surface, s, r)
+    if n is not None or not limit:
+        return n
+    for h in LIMIT_STEPS:
+        ds = h if s <= 0.0 else -h if s >= 1.0 else 0.0
+        dr = h if r <= 0.0 else -h if r >= 1.0 else 0.0
+        if ds == 0.0 and dr == 0.0:
+            return None
+        n = unit_normal(surface, s + ds, r + dr)
+        if n is not None:
+            return n
+    return None
 
 
 def _measured(a: tuple, b: tuple, samples: int) -> tuple[FloatArray, FloatArray]:

@@ -120,6 +120,33 @@ def _split_across(net, old, rid: int, m: int, sag_mm: float | None = None) -> No
             raise StrokeRejectedError("re-planning a fold would leave a region that is not 3- or 4-sided")
 
 
+def split_lens(net, old, rid: int, sag_mm: float | None = None) -> None:
+    """Split a lens (NetworkViews.lens: two curves that meet at a 3-sided sketch's apex and cross
+    at q) across its middle, by a curve that follows the surface before the stroke from the middle
+    of one curve to the middle of the other: a triangle with its apex at q and a 4-sided region
+    whose side at the apex is a point, so that each sharp tip is a collapsed corner, as in a
+    3-sided patch. Left as it was, the lens's Coons patch is ruled between the two curves: its
+    normals along both are undefined, their limits 50-80 deg off its neighbours' (sketchgen 153000
+    sk_octant_3 and _8, a fin the fold checks could not see); with one tip as a regular corner
+    instead, the patch turns over next to that tip."""
+    found = net.lens(rid)
+    if found is None:
+        return
+    a, b, q = found
+    cycle = net.region_cycle(rid)
+    first = _side_nodes(cycle, b, q)
+    m1 = _node_at(net, first, 0.5 * (net.node_uv(b) + net.node_uv(q)))
+    cycle = net.region_cycle(rid)
+    second = _side_nodes(cycle, q, a)
+    m2 = _node_at(net, second, 0.5 * (net.node_uv(q) + net.node_uv(a)))
+    if len({m1, m2, q, a, b}) < 5 or net.has_edge(m1, m2):
+        return
+    curve = net.new_curve_id("split")
+    for new in net.add_chord(rid, m1, m2, curve, _follow_old(net, old, m1, m2, sag_mm)):
+        if len(net.region_corner_ids(new)) not in (3, 4):
+            raise StrokeRejectedError("splitting a lens would leave a region that is not 3- or 4-sided")
+
+
 def _middle(net, rid: int) -> tuple[int, FloatArray]:
     """(a corner, the middle of the longer pair of opposite sides' first side) for a face fold."""
     corners = list(net.region_corner_ids(rid))

@@ -147,6 +147,10 @@ def _join_sides(chain: list[tuple[Polyline, float, float]]) -> Polyline:
     return Polyline(points, np.maximum.accumulate(params))
 
 
+POINT_SIDE = 1e-6
+"""A region's side shorter than this fraction of its longest side is a point in 3D (NetworkViews.lens)."""
+
+
 class NetworkViews:
     """The views of :class:`~ProgSurf.core.network.PatchNetwork` (mixed into it): reads its
     records ``_nodes``, ``_edges``, ``_regions``, ``_edge_index`` and keeps what it makes in its
@@ -199,6 +203,27 @@ class NetworkViews:
         apex = best if angles[best] < angles[default] - APEX_TIE_DEG else default
         cache[rid] = (reg, edges, apex)
         return apex
+
+    def lens(self, rid: int) -> Optional[tuple[int, int, int]]:
+        """(a, b, q) when region rid is a lens: 3-sided, its side from corner a to corner b (in
+        cycle order) a point in 3D (shorter than POINT_SIDE of its longest side), q its third
+        corner. Two curves that end at a 3-sided sketch's apex (its collapsed boundary side) and
+        cross at q bound it. Collapsed at any corner, its Coons patch has a collapsed side
+        opposite too, hence no cross derivative along either curve; with either tip as a
+        regular corner, it squeezes the sharp tip between two sides and turns over (see
+        core.fold_repair.split_lens). None otherwise."""
+        k = self._regions[rid].corners
+        if len(k) != 3:
+            return None
+        length = []
+        for i in range(3):
+            p = self._side_points(rid, k[i], k[(i + 1) % 3])
+            length.append(float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))))
+        point = [j for j in range(3) if length[j] <= POINT_SIDE * max(length)]
+        if len(point) != 1:
+            return None
+        j = point[0]
+        return k[j], k[(j + 1) % 3], k[(j + 2) % 3]
 
     def _walk(self, rid: int, a: int, b: int) -> list[int]:
         """Nodes of the region's cycle from corner a to corner b (either direction, along the

@@ -13,7 +13,7 @@ import numpy as np
 
 from .errors import StrokeRejectedError, StrokeRunsAlongCurveError
 from .fairing import fair_stroke, pchip
-from .fold_repair import follow_surface
+from .fold_repair import follow_surface, split_lens
 from .network import OUTER_CURVES, PatchNetwork
 from .node_planning import crossing_nodes, line_crossings
 from .stroke_ends import StrokeEnd, extension
@@ -155,8 +155,12 @@ def _add_chords(net: PatchNetwork, old: PatchNetwork, full: Polyline, nodes: lis
         cyc = net.region_cycle(rid)
         if na not in cyc or nb not in cyc:
             raise StrokeRejectedError("its pre-image passes too close to an existing node")
-        for new in net.add_chord(rid, na, nb, curve_id, poly):
+        made = net.add_chord(rid, na, nb, curve_id, poly)
+        for new in made:
             make_three_or_four_sided(net, old, new, na, nb, sag_mm)
+        for new in made:
+            if new in net.region_ids:
+                split_lens(net, old, new, sag_mm)
 
 
 def insert_piece(net: PatchNetwork, old: PatchNetwork, pts: FloatArray, start: StrokeEnd, end: StrokeEnd,
