@@ -136,7 +136,12 @@ def _strokes_of(curve: Curve, closed: bool, mean_len: float, diag: float, rng, n
         out.append(_hand(curve, closed, mean_len, diag, rng, noise))
     if rng.random() < noise.get("oversketch_p", 0.0):
         a = rng.uniform(0.0, 0.6)
-        out.append(_hand(curve, closed, mean_len, diag, rng, noise, (a, a + rng.uniform(0.3, 0.7))))
+        length = rng.uniform(0.3, 0.7)
+        if not closed:
+            # a redraw of part of an open curve stays on it (drawn from a + length up to 1.3 it ran
+            # on past the curve's end along its end tangent: 157 mm off a body's tip, radially)
+            a = min(a, 1.0 - length)
+        out.append(_hand(curve, closed, mean_len, diag, rng, noise, (a, a + length)))
     return out
 
 

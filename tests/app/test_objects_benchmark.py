@@ -52,3 +52,28 @@ def test_the_benchmark_builds_a_box_and_a_tube(tmp_path):
     assert box["dev_rms_pct"] < 1.0
     tube = results["tube"]
     assert tube["built"] and tube["closed"] == 0 and tube["surfaces_expected"] >= 3
+
+
+def test_a_redraw_of_an_open_curve_stays_on_it():
+    """--rough draws some curves over again along 30-70 % of their length; on an open curve that
+    part lies on the curve (drawn from up to 60 % on, it used to run on past the curve's end along
+    its end tangent: up to 30 % of the curve, off a body's tip)."""
+    from benchmarks.objects import NOISE, ROUGH, _body, _dense, _strokes_of
+
+    noise = {**NOISE, **ROUGH, "oversketch_p": 1.0, "split_p": 0.0}
+    rng = np.random.default_rng(5)
+    curves, *_ = _body(500.0, rng)
+    checked = 0
+    for seed in range(40):
+        for curve, closed in curves:
+            if closed:
+                continue
+            pts, cum = _dense(curve, closed)
+            drawn = _strokes_of(curve, closed, float(cum[-1]), 600.0, np.random.default_rng(seed), noise)
+            assert len(drawn) == 2
+            _, clean = drawn[1]
+            # every point of the redraw's clean path on the curve's dense polyline
+            d = np.array([np.linalg.norm(pts - p, axis=1).min() for p in clean])
+            assert d.max() <= 2e-3 * cum[-1], (seed, d.max())
+            checked += 1
+    assert checked >= 100
