@@ -25,7 +25,8 @@ CASSIE (Yu et al., CHI 2021) publishes:
 - a stroke end that stopped short of another stroke, heading for it, is extended to it (EXTEND);
   two that stopped short of their corner meet there (_corner_gaps); a ring whose ends stop short
   of its seam, heading for each other, is bridged (_ring_bridge); three or more ends whose lines
-  pass close to one point near them meet at that point (_meeting_ends: a cone's tip, a box's corner);
+  pass close to one point near them meet at that point (_meeting_ends: a cone's tip, a box's corner),
+  and so does an end stopped short of it heading its way (a body's guide curving into its tip);
 - an end piece beyond the stroke's last node no longer than HOOK x delta and HOOK_FRACTION of the
   stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1.
 
@@ -79,6 +80,17 @@ near no other stroke's middle, and whose lines pass within delta of one point, m
 (_meeting_ends): a cone's rulings drawn to its tip, a box's three edges to their corner, each
 stopping short or running over by a few delta. Taken two at a time (T-nodes, corner gaps) they made
 two or three nodes round the tip, and the loops between them were slivers or missing."""
+
+CORNER_MISS = 1.0
+"""Two free ends stopped short of their corner (_corner_gaps) meet there when their lines pass within
+this many delta of each other (the lines of three or more ends, _meeting_ends, within delta of one
+point): at 0.5 a rough hand's grid corners stayed open, the end directions over their last delta
+skew by the drawing's jitter and drift (objects benchmark grid_1004r: lines 0.54 and 0.79 delta
+apart, ends 2.2 delta apart)."""
+
+LATE_DEG = 45.0
+"""A stroke end that stopped short of a meeting of ends (MEET_ENDS), within EXTEND x delta of its
+point, joins it when its direction (its last delta) points within this of the point."""
 
 EXTEND_DEG = 15.0
 """How far off a stroke end's direction (its last delta) the curve it stopped short of may lie."""
@@ -314,8 +326,10 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
     candidate each, at the point nearest to the ends' lines (each stroke attached at its place
     nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
     further than a hook is cut, HOOK and HOOK_FRACTION, is not one of them: the two halves of a
-    curve drawn in two overlapping strokes, where a third ends). Strokes no longer than 4 EXTEND x
-    delta and closed ones take no part. Returns the (stroke, end arc length) of the ends joined."""
+    curve drawn in two overlapping strokes, where a third ends). An end that stopped short of such a
+    point within EXTEND x delta, heading within LATE_DEG of it, joins it too. Strokes no longer
+    than 4 EXTEND x delta and closed ones take no part. Returns the (stroke, end arc length) of the
+    ends joined."""
     reach = EXTEND * delta
     closed = {i for i in live if np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= PROXIMITY * delta}
     ends = []
@@ -381,18 +395,36 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
                 break
             ks = [k for k, o in zip(ks, off) if o < max(off)]
             x = None
-        if x is None or len(ks) < MEET_ENDS or max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
+        if x is None or len(ks) < MEET_ENDS:
+            continue
+        # an end that stopped short of the meeting, within reach of it and heading its way (within
+        # LATE_DEG: a body's guide curves into its tip, so its line misses the tip by more than
+        # delta) joins it too; left out, it dangled beside the tip and the loops there merged
+        members = {ends[k][0] for k in ks}
+        late = {}
+        for i, s_end, p, d in ends:
+            if i in members or i in late or (i, s_end) in done:
+                continue
+            to_x = x - p
+            dist = float(np.linalg.norm(to_x))
+            if delta < dist <= reach and float(d @ to_x) >= np.cos(np.radians(LATE_DEG)) * dist:
+                late[i] = s_end
+        if not late and max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
             continue        # (ends drawn to within delta of the point: they touch there, the other rules join them)
         attach = []
         for k in ks:
             i, s_end, _, _ = ends[k]
             attach.append((i, places[k] if abs(places[k] - s_end) <= reach else s_end))
             done.add((i, s_end))
+        for i, s_end in late.items():
+            attach.append((i, s_end))
+            done.add((i, s_end))
         # the places where these strokes touch one another near the meeting (the crossings of ends
         # run over it, an end passing another) are that meeting: left to it alone (a second
         # candidate on one of their ends made a second node beside it, and a sliver between)
         place = dict(attach)
         end_of = {ends[k][0]: ends[k][1] for k in ks}
+        end_of.update(late)
 
         def cut(i: int, sc: float) -> bool:
             """On stroke i's piece past the meeting: cut away."""
@@ -402,10 +434,15 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
             """Cut away, or within 2 delta of the meeting on stroke i."""
             return i in place and (cut(i, sc) or abs(sc - place[i]) <= 2 * delta)
 
+        def late_end(i: int, sc: float) -> bool:
+            """At the end of a stroke that joined the meeting late: its end is the meeting (where
+            it passes the strokes converging there, it does not touch them)."""
+            return i in late and abs(sc - late[i]) <= 2 * delta
+
         keep = [c for c in range(len(cands.points))
                 if not (np.linalg.norm(cands.points[c] - x) <= 2 * reach
                         and (all(at_meeting(i, sc) for i, sc in cands.attach[c])
-                             or any(cut(i, sc) for i, sc in cands.attach[c])))]
+                             or any(cut(i, sc) or late_end(i, sc) for i, sc in cands.attach[c])))]
         cands.points[:] = [cands.points[c] for c in keep]
         cands.attach[:] = [cands.attach[c] for c in keep]
         cands.add(x, attach)
@@ -487,7 +524,7 @@ def _ring_bridge(stroke: FloatArray, delta: float) -> FloatArray | None:
 
 def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
     """Two free stroke ends (no stroke near either, nor ahead of it) whose directions lead, each
-    within EXTEND x delta, to one place where they pass within delta / 2 of each other: two strokes
+    within EXTEND x delta, to one place where they pass within CORNER_MISS x delta of each other: two strokes
     that both stopped short of the corner they make. They meet at that place (the paper's closing
     extends such a gap). The closest pairs first; an end joins once."""
     reach = EXTEND * delta
@@ -509,7 +546,7 @@ def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
             if not (0.0 <= a <= reach and 0.0 <= b <= reach):
                 continue
             gap = float(np.linalg.norm((p + a * d) - (q + b * e)))
-            if gap <= 0.5 * delta:
+            if gap <= CORNER_MISS * delta:
                 pairs.append((a + b, x, y, 0.5 * ((p + a * d) + (q + b * e))))
     used: set = set()
     for _, x, y, point in sorted(pairs, key=lambda t: t[0]):

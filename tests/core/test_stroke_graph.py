@@ -363,6 +363,15 @@ def test_two_strokes_stopped_short_of_their_corner_meet_there():
     corner = min(g.nodes, key=lambda n: np.linalg.norm(n.point - [0, 40, 0]))
     assert np.linalg.norm(corner.point - [0, 40, 0]) < 0.05
     assert [len(c.sides) for c in find_cycles(g).cycles] == [4]
+    # the same, the last stroke lifted 0.8 delta out of the square's plane (its line passes the
+    # other's 0.8 delta apart: a rough hand's skew end directions, stroke_graph.CORNER_MISS)
+    lifted = strokes[:3] + [line([0, 0, 0], [0, 40 - 1.5 * d, 0.8 * d])]
+    g = build_stroke_graph(lifted, d)
+    assert not [n for n in g.nodes if n.kind == "end"]
+    assert [len(c.sides) for c in find_cycles(g).cycles] == [4]
+    # lifted 1.6 delta, they pass too far apart to be one corner
+    g = build_stroke_graph(strokes[:3] + [line([0, 0, 0], [0, 40 - 1.5 * d, 1.6 * d])], d)
+    assert len([n for n in g.nodes if n.kind == "end"]) == 2
 
 
 def test_a_ring_drawn_with_a_gap_closes():
@@ -541,3 +550,49 @@ def test_a_strip_round_a_lip_bounds_its_surfaces():
     ends = {0, 3}                                   # the inner ring and the last outer ring: open ends
     assert all(used.get(e.id, 0) == (1 if e.stroke in ends else 2) for e in g.edges)
     assert {frozenset(g.edges[e].stroke for e, _ in c.sides) for c, _ in choice.dropped} == {frozenset({0}), frozenset({3})}
+
+
+def test_an_end_that_stopped_short_of_a_meeting_heading_its_way_joins_it():
+    """A cone whose five rulings reach its tip (within delta) and whose sixth stops 2.6 delta short
+    of it, heading 35 deg off it (a body's guide curving into its tip: its line misses the tip by
+    1.5 delta, so it is not one of the ends that meet there): it joins the tip all the same
+    (stroke_graph.LATE_DEG), one node of six rulings and no dangling end; the cone is 6 loops. A
+    stroke stopped as short but heading 60 deg off does not join the tip."""
+    delta = 5.0
+    tip = np.array([0.0, 0.0, 100.0])
+    th = np.linspace(0, 2 * np.pi, 200)
+
+    def sketch(off_deg):
+        rulings = []
+        for k, over in enumerate([-0.8, 0.6, -0.5, 0.9, -0.4]):
+            a = 2 * np.pi * k / 6 + 0.3
+            foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+            rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
+        a = 2 * np.pi * 5 / 6 + 0.3
+        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+        g = (tip - foot) / np.linalg.norm(tip - foot)
+        side = np.cross(g, [0.0, 0.0, 1.0])
+        side /= np.linalg.norm(side)
+        t = np.radians(off_deg)
+        # the end 2.6 delta short of the tip, its direction (from the foot) off the tip by about t
+        end = tip - 2.6 * delta * (np.cos(t) * g + np.sin(t) * side)
+        rulings.append(line(foot, end, 40))
+        d = (end - foot) / np.linalg.norm(end - foot)
+        angle = np.degrees(np.arccos(d @ (tip - end) / np.linalg.norm(tip - end)))
+        return [np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, angle
+
+    strokes, angle = sketch(38.0)
+    assert 30.0 < angle < 45.0
+    miss = 2.6 * delta * np.sin(np.radians(angle))
+    assert miss > delta                           # the case: its line passes the tip beyond delta
+    g = build_stroke_graph(strokes, delta)
+    near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 4 * delta]
+    assert len(near) == 1 and g.degree(near[0].id) == 6, [(n.kind, n.point) for n in near]
+    assert not [n for n in g.nodes if n.kind == "end"]
+    assert len(find_cycles(g).cycles) == 6
+
+    strokes, angle = sketch(65.0)
+    assert angle > 55.0
+    g = build_stroke_graph(strokes, delta)
+    at_tip = [n for n in g.nodes if np.linalg.norm(n.point - tip) < delta]
+    assert len(at_tip) == 1 and g.degree(at_tip[0].id) == 5
