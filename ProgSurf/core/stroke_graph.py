@@ -72,7 +72,10 @@ drawing round a 600 mm rim stops 5-8 % short, 2-5 delta, beyond the reach of EXT
 was left a dangling chain: a tube with one of its strips missing and "quality: ok"."""
 
 RING_DEG = 25.0
-"""... (both ends: a C whose ends point past each other, or one end only, is not closed)."""
+"""... plus the angle a circle's end makes with the chord of such a gap (180 deg times the gap's
+share of the length: 11 deg for a gap of 6 %), the rest the hand's (both ends: a C whose ends
+point past each other, or one end only, is not closed). Without that share, a rough rim 6 % short
+whose end ran 35 deg off the gap stayed open (body_7011r)."""
 
 MEET_ENDS = 3
 """At least this many stroke ends (of as many strokes) that lie within EXTEND x delta of one another,
@@ -514,7 +517,8 @@ def _ring_bridge(stroke: FloatArray, delta: float) -> FloatArray | None:
     leave_start = _end_direction(stroke, cum, 0.0, delta)
     if leave_end is None or leave_start is None:
         return None
-    cos = np.cos(np.radians(RING_DEG))
+    # a circle's end runs off the chord of a gap of share f of it by 180 f deg; RING_DEG on top
+    cos = np.cos(np.radians(RING_DEG + 180.0 * size / total))
     if float(leave_end @ gap) < cos * size or float(-(leave_start @ gap)) < cos * size:
         return None
     step = total / max(len(stroke) - 1, 1)      # (the mean: repeated points leave the median at 0)
