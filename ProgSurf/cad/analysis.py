@@ -93,8 +93,9 @@ def side_normal(surface, s: float, r: float, limit: bool = True) -> FloatArray |
     adjacent to a side are both points (a lens of two curves) has no cross derivative along it:
     its normal is undefined along the whole side, and a seam there read no angle at all while
     the limit was 50-80 deg off the neighbour's (sketchgen 153000 sk_octant_8: a fin in the STEP
-    file that the report and the fold check both missed). None where the limit is undefined too
-    (a collapsed corner)."""
+    file that the report and the fold check both missed). At a corner the step is taken along
+    both parameters. None where the normal a step in is undefined too, or for a point inside the
+    face (no side to step in from)."""
     n = unit_normal(surface, s, r)
     if n is not None or not limit:
         return n

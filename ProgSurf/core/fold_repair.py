@@ -114,10 +114,17 @@ def _split_across(net, old, rid: int, m: int, sag_mm: float | None = None) -> No
         cycle = net.region_cycle(rid)
     if far == m or net.has_edge(m, far):
         return
+    _add_split(net, old, rid, m, far, sag_mm, "re-planning a fold")
+
+
+def _add_split(net, old, rid: int, a: int, b: int, sag_mm: float | None, what: str) -> None:
+    """Split region rid along a new curve from node a to node b that follows the surface before
+    the stroke (_follow_old); `what` names the step in the rejection when a region it leaves is
+    not 3- or 4-sided."""
     curve = net.new_curve_id("split")
-    for new in net.add_chord(rid, m, far, curve, _follow_old(net, old, m, far, sag_mm)):
+    for new in net.add_chord(rid, a, b, curve, _follow_old(net, old, a, b, sag_mm)):
         if len(net.region_corner_ids(new)) not in (3, 4):
-            raise StrokeRejectedError("re-planning a fold would leave a region that is not 3- or 4-sided")
+            raise StrokeRejectedError(f"{what} would leave a region that is not 3- or 4-sided")
 
 
 def split_lens(net, old, rid: int, sag_mm: float | None = None) -> None:
@@ -141,10 +148,7 @@ def split_lens(net, old, rid: int, sag_mm: float | None = None) -> None:
     m2 = _node_at(net, second, 0.5 * (net.node_uv(q) + net.node_uv(a)))
     if len({m1, m2, q, a, b}) < 5 or net.has_edge(m1, m2):
         return
-    curve = net.new_curve_id("split")
-    for new in net.add_chord(rid, m1, m2, curve, _follow_old(net, old, m1, m2, sag_mm)):
-        if len(net.region_corner_ids(new)) not in (3, 4):
-            raise StrokeRejectedError("splitting a lens would leave a region that is not 3- or 4-sided")
+    _add_split(net, old, rid, m1, m2, sag_mm, "splitting a lens")
 
 
 def _middle(net, rid: int) -> tuple[int, FloatArray]:

@@ -14,7 +14,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
-from .strokes import APEX_TIE_DEG, corner_angle_deg
+from .strokes import APEX_TIE_DEG, chord_length, corner_angle_deg
 from .types import FloatArray, Polyline
 
 OUTER_CURVES = (0, 1, 2, 3)
@@ -215,10 +215,7 @@ class NetworkViews:
         k = self._regions[rid].corners
         if len(k) != 3:
             return None
-        length = []
-        for i in range(3):
-            p = self._side_points(rid, k[i], k[(i + 1) % 3])
-            length.append(float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))))
+        length = [chord_length(self._side_points(rid, k[i], k[(i + 1) % 3])) for i in range(3)]
         point = [j for j in range(3) if length[j] <= POINT_SIDE * max(length)]
         if len(point) != 1:
             return None

@@ -6,7 +6,7 @@ octant's apex (the boundary side that collapses there) and cross each other on t
 the crossing and the apex they bound a region whose third side is a point in 3D. Its Coons patch
 was ruled between the two curves, with no cross derivative along either: its normals along both
 seams were undefined, so the report and the fold check read no angle there, while the STEP file
-showed a fin 82 deg off its neighbour ("quality: ok").
+showed a fin 48 deg (G0) to 82 deg (G1, through the command line) off its neighbour ("quality: ok").
 """
 from __future__ import annotations
 
@@ -77,6 +77,19 @@ def test_the_report_reads_the_seams_the_step_file_shows():
         assert out.analysis.problems == (), out.analysis.problems
 
 
+def test_a_lens_left_in_a_surface_is_read_at_its_limit_normal(monkeypatch):
+    """With the split turned off the lens stays (G0): its seams have no normal on its side, and
+    the report reads them at the limit a step inside it (cad.analysis.side_normal), as the STEP
+    file shows them; reading no angle there, it said 33.5 deg where the STEP file shows 48.4."""
+    import ProgSurf.core.stroke_insertion as insertion
+
+    monkeypatch.setattr(insertion, "split_lens", lambda *args, **kw: None)
+    out = build.build_and_measure(read_strokes(str(SKETCH)), None, Tolerances())
+    shown = _step_seam_max_deg(out.shell.shape)
+    assert shown > 40.0                       # the case: the lens's seam is there, and steep
+    assert shown <= out.analysis.seam_angle_deg + 1.0, (shown, out.analysis.seam_angle_deg)
+
+
 def test_a_side_whose_normal_is_undefined_reads_its_limit():
     """A Coons patch of two curves whose other two sides are points: S_s = 0 all along s = 0."""
     left = curves.bspline(np.array([0, 0, 0, 0, 1, 1, 1, 1.0]),
@@ -91,7 +104,7 @@ def test_a_side_whose_normal_is_undefined_reads_its_limit():
     # the limit: S_s ~ s S_ss, so the normal is that of S_ss x S_r, read at a tiny step in
     near = faces.unit_normal(surface, 1e-6, 0.5)
     assert near is not None and float(n @ near) > math.cos(math.radians(0.5))
-    # where the normal is defined, it is unit_normal's; at a corner of two points, none
+    # where the normal is defined, it is unit_normal's
     assert np.allclose(analysis.side_normal(surface, 0.5, 0.5), faces.unit_normal(surface, 0.5, 0.5))
     assert analysis.side_normal(surface, 0.5, 0.5, limit=False) is not None
     assert analysis.side_normal(surface, 0.0, 0.5, limit=False) is None
