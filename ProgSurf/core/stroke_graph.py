@@ -366,11 +366,11 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
         if ends[a][0] != ends[b][0]:        # (both within reach of one point)
             links.join(a, b)
     done: set = set()
-    for ks in links.groups():
+    for group in links.groups():
         # one end per stroke: the one nearer the group (a stroke drawn out from it and back)
-        centre = pts[ks].mean(axis=0)
-        ks = [min((k for k in ks if ends[k][0] == i), key=lambda k: float(np.linalg.norm(pts[k] - centre)))
-              for i in sorted({ends[k][0] for k in ks})]
+        centre = pts[group].mean(axis=0)
+        ks = [min((k for k in group if ends[k][0] == i), key=lambda k: float(np.linalg.norm(pts[k] - centre)))
+              for i in sorted({ends[k][0] for k in group})]
         x, places = None, {}
         while len(ks) >= MEET_ENDS:
             # the point nearest to the ends' lines (least squares); every line must pass within
@@ -402,11 +402,13 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
             continue
         # an end that stopped short of the meeting, within reach of it and heading its way (within
         # LATE_DEG: a body's guide curves into its tip, so its line misses the tip by more than
-        # delta) joins it too; left out, it dangled beside the tip and the loops there merged
+        # delta) joins it too; left out, it dangled beside the tip and the loops there merged.
+        # (Such an end lies within 2 reach of the members' ends, so it is one of the group's.)
         members = {ends[k][0] for k in ks}
         late = {}
-        for i, s_end, p, d in ends:
-            if i in members or i in late or (i, s_end) in done:
+        for k in group:
+            i, s_end, p, d = ends[k]
+            if i in members or i in late:
                 continue
             to_x = x - p
             dist = float(np.linalg.norm(to_x))
