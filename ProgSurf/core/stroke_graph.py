@@ -454,10 +454,12 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
     return done
 
 
-def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -> None:
+def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, keep: dict) -> None:
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
     own other end, for a closed stroke) is joined to its nearest point there; ends that meet at one
-    point (_meeting_ends) are joined there first."""
+    point (_meeting_ends) are joined there first. keep: stroke -> [lo, hi], the arc lengths of the
+    part a trim leaves (an over-sketched run's cut-away piece joins nothing: the stroke it ran
+    along lies there too)."""
     reach = PROXIMITY * delta
     boxes = _Boxes(strokes)
     cums = {i: cumulative_length(strokes[i]) for i in live}
@@ -474,9 +476,9 @@ def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -
             for j in live:
                 if j == i or not near[j]:
                     continue
-                d, sj = nearest_on(p[None], strokes[j], cums[j])
-                if d[0] <= reach and (best is None or d[0] < best[0]):
-                    best = (d[0], j, sj[0])
+                d, sj = _nearest_kept(p, strokes[j], cums[j], keep[j])
+                if d <= reach and (best is None or d < best[0]):
+                    best = (d, j, sj)
             if best is None and not closes:
                 direction = _end_direction(strokes[i], cums[i], s_end, delta)
                 best = _extension(strokes, cums, i, s_end, direction, live, boxes, delta)
@@ -491,6 +493,17 @@ def _end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates) -
         if closes:
             cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
     _corner_gaps(free, delta, cands)
+
+
+def _nearest_kept(p: FloatArray, stroke: FloatArray, cum: FloatArray, kept: list) -> tuple[float, float]:
+    """(distance, arc length) of the point of a stroke's kept part [lo, hi] nearest p (3,)."""
+    lo, hi = kept
+    d, s = nearest_on(p[None], stroke, cum)
+    if lo - 1e-9 <= s[0] <= hi + 1e-9:
+        return float(d[0]), float(s[0])
+    piece = _piece(stroke, cum, lo, hi, point_at_length(stroke, lo, cum), point_at_length(stroke, hi, cum))
+    d, s = nearest_on(p[None], piece)
+    return float(d[0]), lo + float(s[0])
 
 
 def _end_direction(stroke: FloatArray, cum: FloatArray, s_end: float, delta: float) -> FloatArray | None:
@@ -632,8 +645,6 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     cands = NodeCandidates()
     trims: dict = {}
     _crossings(arrays, live, delta, cands, trims)
-    _end_joins(arrays, live, delta, cands)
-
     # a trimmed stroke keeps only the part out of its run along the other stroke
     keep_range = {i: [0.0, lengths[i]] for i in live}
     for i, cuts in trims.items():
@@ -643,6 +654,7 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             else:
                 keep_range[i][1] = min(keep_range[i][1], s)
             notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
+    _end_joins(arrays, live, delta, cands, keep_range)
 
     labels = merge_candidates(cands, arrays, delta)
     groups: dict = {}

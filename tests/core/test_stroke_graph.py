@@ -623,3 +623,31 @@ def test_a_rim_whose_end_lifts_off_as_a_hand_does_still_closes():
     g = build_stroke_graph(strokes, delta)
     assert "ring closed" in g.notes.get(0, "")
     assert len(find_cycles(g).cycles) == 4
+
+
+def _two_piece_line():
+    """A line y = 0 (x 0-100) drawn as two strokes that overlap over x 40-60: P (x 0-60, 0.3
+    delta above) and Q (x 40-100, 0.3 delta below). P's end lies in the run: P is cut at x 40."""
+    return line([0, 0.3, 0], [60, 0.3, 0], 120), line([40, -0.3, 0], [100, -0.3, 0], 120)
+
+
+def _edges_end_where_their_strokes_do(g, strokes, reach):
+    for e in g.edges:
+        for node, s in ((e.node0, e.s0), (e.node1, e.s1)):
+            cum = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(strokes[e.stroke], axis=0), axis=1))]
+            at = np.array([np.interp(s, cum, strokes[e.stroke][:, k]) for k in range(3)])
+            assert np.linalg.norm(g.nodes[node].point - at) <= reach, (e.id, e.stroke, node)
+
+
+def test_an_end_beside_a_cut_away_run_joins_the_stroke_that_stays():
+    """A stem that stops 1.5 delta above the two-piece line at x 55, where only P's cut-away run is
+    nearer than Q, joins Q there (a T-node at x 55), not P's cut (x 40, 15 delta away): the cut-away
+    piece of an over-sketched run joins nothing, the stroke it ran along lies there too."""
+    p, q = _two_piece_line()
+    stem = line([55, 40, 0], [55, 1.5, 0])
+    strokes = [p, q, stem]
+    g = build_stroke_graph(strokes, 1.0)
+    t = _nodes_of(g, [1, 2])
+    assert len(t) == 1 and abs(t[0].point[0] - 55.0) < 1.0
+    _edges_end_where_their_strokes_do(g, strokes, 2.0)
+
