@@ -209,7 +209,7 @@ def test_creases_between_surfaces_that_no_stroke_draws_are_reported():
     tapered tube and the cube have none (test_objects). (The noisy TiGL helicopter had 3 such
     creases until its boom's guides stopped being pinched together; vintage_car had 10 while
     edges jumped to their nodes in one segment; the rough body 7001 had one until the ends of its
-    meridians that miss its tip met there, stroke_graph._meeting_ends.)"""
+    meridians that miss its tip met there, stroke_joins._meeting_ends.)"""
     import sys
 
     sys.path.insert(0, str(ROOT))

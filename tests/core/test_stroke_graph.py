@@ -341,7 +341,7 @@ def test_a_face_through_one_node_twice_splits_into_its_loops():
 
 def test_a_stroke_stopped_short_of_the_curve_it_runs_to_meets_it():
     """A stem that stops 2.5 delta short of a bar (beyond the 2 delta of a T-node's reach), heading
-    at it, meets the bar there (stroke_graph.EXTEND); one heading along the bar stays dangling."""
+    at it, meets the bar there (stroke_joins.EXTEND); one heading along the bar stays dangling."""
     bar = line([0, 0, 0], [100, 0, 0])
     stem = line([50, 60, 0], [50, 2.5, 0])
     g = build_stroke_graph([bar, stem], 1.0)
@@ -354,7 +354,7 @@ def test_a_stroke_stopped_short_of_the_curve_it_runs_to_meets_it():
 
 def test_two_strokes_stopped_short_of_their_corner_meet_there():
     """A square whose last corner both strokes stop 1.5 delta short of (2.1 delta apart, beyond the
-    2 delta reach): they meet at the corner (stroke_graph._corner_gaps), and the square is one loop."""
+    2 delta reach): they meet at the corner (stroke_joins._corner_gaps), and the square is one loop."""
     d = 1.0
     strokes = [line([0, 0, 0], [40, 0, 0]), line([40, 0, 0], [40, 40, 0]), line([40, 40, 0], [1.5 * d, 40, 0]),
                line([0, 0, 0], [0, 40 - 1.5 * d, 0])]
@@ -364,7 +364,7 @@ def test_two_strokes_stopped_short_of_their_corner_meet_there():
     assert np.linalg.norm(corner.point - [0, 40, 0]) < 0.05
     assert [len(c.sides) for c in find_cycles(g).cycles] == [4]
     # the same, the last stroke lifted 0.8 delta out of the square's plane (its line passes the
-    # other's 0.8 delta apart: a rough hand's skew end directions, stroke_graph.CORNER_MISS)
+    # other's 0.8 delta apart: a rough hand's skew end directions, stroke_joins.CORNER_MISS)
     lifted = strokes[:3] + [line([0, 0, 0], [0, 40 - 1.5 * d, 0.8 * d])]
     g = build_stroke_graph(lifted, d)
     assert not [n for n in g.nodes if n.kind == "end"]
@@ -389,7 +389,7 @@ def test_a_tube_whose_rims_are_drawn_short_of_their_seams_closes(share):
     """A cylinder (radius 50, height 120) whose two rims stop `share` of their length short of
     where they began (13-28 mm: 2.5-5.7 delta at delta 5, beyond the 2 delta a ring closes within)
     and four rulings: each rim is a ring with a gap at its seam and is bridged there
-    (stroke_graph._ring_bridge), so
+    (stroke_joins.ring_bridge), so
     the tube is 4 loops with no end node (before: a rim beyond 3 delta stayed a dangling chain and
     the tube lost a strip). An arc of 300 deg (a C: its ends 1/6 of it apart) stays open."""
     delta = 5.0
@@ -414,7 +414,7 @@ def test_ends_that_stop_short_of_or_run_over_one_point_meet_there():
     """A cone (base ring radius 50, tip 100 above it) whose six rulings end 1-2.5 delta short of
     or past the tip (delta 5), and a cube whose three edges at one corner each stop 2 delta short
     of it: the rulings meet at the tip, the edges at the corner, one node each
-    (stroke_graph._meeting_ends): the cone is 6 loops, the cube 6 (before: 3 nodes round the tip
+    (stroke_joins._meeting_ends): the cone is 6 loops, the cube 6 (before: 3 nodes round the tip
     and 3 loops, 2 nodes at the corner and 4 loops). Three strokes whose ends lie as close but
     whose lines pass far apart do not meet."""
     delta = 5.0
@@ -556,7 +556,7 @@ def test_an_end_that_stopped_short_of_a_meeting_heading_its_way_joins_it():
     """A cone whose five rulings reach its tip (within delta) and whose sixth stops 2.6 delta short
     of it, heading 35 deg off it (a body's guide curving into its tip: its line misses the tip by
     1.5 delta, so it is not one of the ends that meet there): it joins the tip all the same
-    (stroke_graph.LATE_DEG), one node of six rulings and no dangling end; the cone is 6 loops. A
+    (stroke_joins.LATE_DEG), one node of six rulings and no dangling end; the cone is 6 loops. A
     stroke stopped as short but heading 60 deg off does not join the tip."""
     delta = 5.0
     tip = np.array([0.0, 0.0, 100.0])

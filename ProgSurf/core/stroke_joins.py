@@ -1,0 +1,377 @@
+"""Where stroke ends join the stroke network (issue 18, part 1; core.stroke_graph builds the rest).
+
+A stroke end within PROXIMITY x delta of another stroke is joined to its nearest point there (a
+T-node, or a corner at the other's end); one that stopped short of a stroke, heading for it, is
+extended to it (EXTEND); two that stopped short of their corner meet there (corner gaps); three or
+more whose lines pass close to one point meet at that point, and so does an end stopped short of
+it heading its way (meeting ends); a ring whose ends stop short of its seam, heading for each
+other, is bridged (ring_bridge). An end near an over-sketched run joins what the trim leaves of
+each stroke, never a cut-away piece. CASSIE (Yu et al., CHI 2021) publishes the proximity and hook
+thresholds.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .continuity import hermite_basis
+from .stroke_nodes import Links, NodeCandidates, nearest_on
+from .strokes import chord_length, cumulative_length, point_at_length
+from .types import FloatArray
+
+PROXIMITY = 2.0
+"""A stroke end this many delta from another stroke is joined to it (CASSIE: proximity 2 delta)."""
+
+HOOK = 3.0
+"""An end piece beyond the last node up to this many delta ... (CASSIE: hooks up to 3 delta)"""
+
+HOOK_FRACTION = 0.15
+"""... and up to this fraction of its stroke is a hook, removed (CASSIE: 15 % of a stroke)."""
+
+EXTEND = 3.0
+"""A stroke end that no stroke comes within PROXIMITY x delta of, but whose own direction leads
+to one within this many delta (EXTEND_DEG), stopped short of it: it is joined there (a ring drawn
+round with a gap at its seam, a stroke stopped short of the curve it runs to)."""
+
+RING_GAP = 0.1
+"""A stroke whose ends lie apart by at most this share of its length, each end's own direction
+leading to the other end within RING_DEG, is a ring drawn with a gap at its seam: the gap is
+bridged (_ring_bridge; the paper closes a boundary's gaps by extending its strokes). A hand
+drawing round a 600 mm rim stops 5-8 % short, 2-5 delta, beyond the reach of EXTEND, and the rim
+was left a dangling chain: a tube with one of its strips missing and "quality: ok"."""
+
+RING_DEG = 25.0
+"""... plus the angle a circle's end makes with the chord of such a gap (180 deg times the gap's
+share of the length: 11 deg for a gap of 6 %), the rest the hand's (both ends: a C whose ends
+point past each other, or one end only, is not closed). Without that share, a rough rim 6 % short
+whose end ran 35 deg off the gap stayed open (body_7011r)."""
+
+MEET_ENDS = 3
+"""At least this many stroke ends (of as many strokes) that lie within EXTEND x delta of one another,
+near no other stroke's middle, and whose lines pass within delta of one point, meet at that point
+(_meeting_ends): a cone's rulings drawn to its tip, a box's three edges to their corner, each
+stopping short or running over by a few delta. Taken two at a time (T-nodes, corner gaps) they made
+two or three nodes round the tip, and the loops between them were slivers or missing."""
+
+CORNER_MISS = 1.0
+"""Two free ends stopped short of their corner (_corner_gaps) meet there when their lines pass within
+this many delta of each other (the lines of three or more ends, _meeting_ends, within delta of one
+point): at 0.5 a rough hand's grid corners stayed open, the end directions over their last delta
+skew by the drawing's jitter and drift (objects benchmark grid_1004r: lines 0.54 and 0.79 delta
+apart, ends 2.2 delta apart)."""
+
+LATE_DEG = 45.0
+"""A stroke end that stopped short of a meeting of ends (MEET_ENDS), within EXTEND x delta of its
+point, joins it when its direction (its last delta) points within this of the point."""
+
+EXTEND_DEG = 15.0
+"""How far off a stroke end's direction (its last delta) the curve it stopped short of may lie."""
+
+
+class Boxes:
+    """The strokes' bounding boxes, found once, so that the pair tests (two strokes, or a stroke end
+    and a stroke, cannot touch when their boxes lie further apart than the margin) are one
+    vectorised comparison per stroke instead of two box computations per pair."""
+
+    def __init__(self, strokes: list) -> None:
+        self.lo = np.array([s.min(axis=0) for s in strokes]).reshape(-1, 3)
+        self.hi = np.array([s.max(axis=0) for s in strokes]).reshape(-1, 3)
+
+    def close_to(self, lo: FloatArray, hi: FloatArray, margin: float) -> np.ndarray:
+        """(n_strokes,) bool: the strokes whose box comes within `margin` of the box [lo, hi]."""
+        return np.all(lo - margin <= self.hi, axis=1) & np.all(self.lo - margin <= hi, axis=1)
+
+
+
+def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: NodeCandidates,
+                  boxes: "Boxes") -> set:
+    """Groups of MEET_ENDS or more stroke ends that meet at one point (MEET_ENDS): one node
+    candidate each, at the point nearest to the ends' lines (each stroke attached at its place
+    nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
+    further than a hook is cut, HOOK and HOOK_FRACTION, is not one of them: the two halves of a
+    curve drawn in two overlapping strokes, where a third ends). An end that stopped short of such a
+    point within EXTEND x delta, heading within LATE_DEG of it, joins it too. Strokes no longer
+    than 4 EXTEND x delta and closed ones take no part. Returns the (stroke, end arc length) of the
+    ends joined."""
+    reach = EXTEND * delta
+    closed = {i for i in live if np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= PROXIMITY * delta}
+    ends = []
+    for i in live:
+        total = float(cums[i][-1])
+        if total <= 4 * reach or i in closed:
+            continue        # short strokes and closed ones: the other rules
+        for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
+            d = _end_direction(strokes[i], cums[i], s_end, delta)
+            if d is None:
+                continue
+            # an end beside another stroke's middle (further from its ends than two reaches: one
+            # may run over the meeting point by a reach; a closed stroke is all middle) is a
+            # T-node, not one of a meeting of ends
+            middle = False
+            near = boxes.close_to(p, p, PROXIMITY * delta)
+            for j in live:
+                if j == i or not near[j]:
+                    continue
+                dist, sj = nearest_on(p[None], strokes[j], cums[j])
+                if dist[0] <= PROXIMITY * delta and (min(sj[0], cums[j][-1] - sj[0]) > 2 * reach or j in closed):
+                    middle = True
+                    break
+            if not middle:
+                ends.append((i, s_end, p, d))
+    if len(ends) < MEET_ENDS:
+        return set()
+    pts = np.array([e[2] for e in ends])
+    links = Links(len(ends))
+    for a, b in zip(*np.nonzero(np.triu(np.linalg.norm(pts[:, None] - pts[None], axis=2) <= 2 * reach, 1))):
+        if ends[a][0] != ends[b][0]:        # (both within reach of one point)
+            links.join(a, b)
+    done: set = set()
+    for group in links.groups():
+        # one end per stroke: the one nearer the group (a stroke drawn out from it and back)
+        centre = pts[group].mean(axis=0)
+        ks = [min((k for k in group if ends[k][0] == i), key=lambda k: float(np.linalg.norm(pts[k] - centre)))
+              for i in sorted({ends[k][0] for k in group})]
+        x, places = None, {}
+        while len(ks) >= MEET_ENDS:
+            # the point nearest to the ends' lines (least squares); every line must pass within
+            # delta of it, every end lie within reach and have run past it no further than a hook
+            # is cut (arc length): else the end furthest off is left out
+            a_sum, b_sum = np.zeros((3, 3)), np.zeros(3)
+            for k in ks:
+                _, _, p, d = ends[k]
+                m = np.eye(3) - np.outer(d, d)
+                a_sum += m
+                b_sum += m @ p
+            if np.linalg.cond(a_sum) > 1e6:
+                break
+            x = np.linalg.solve(a_sum, b_sum)
+            off = []
+            for k in ks:
+                i, s_end, p, d = ends[k]
+                _, s_near = nearest_on(x[None], strokes[i], cums[i])
+                places[k] = float(s_near[0])
+                past = abs(places[k] - s_end) if float(d @ (x - p)) < 0.0 else 0.0
+                off.append(max(float(np.linalg.norm((np.eye(3) - np.outer(d, d)) @ (x - p))) / delta,
+                               float(np.linalg.norm(x - p)) / reach,
+                               past / min(HOOK * delta, HOOK_FRACTION * float(cums[i][-1]))))
+            if max(off) <= 1.0:
+                break
+            ks = [k for k, o in zip(ks, off) if o < max(off)]
+            x = None
+        if x is None or len(ks) < MEET_ENDS:
+            continue
+        # an end that stopped short of the meeting, within reach of it and heading its way (within
+        # LATE_DEG: a body's guide curves into its tip, so its line misses the tip by more than
+        # delta) joins it too; left out, it dangled beside the tip and the loops there merged.
+        # (Such an end lies within 2 reach of the members' ends, so it is one of the group's.)
+        members = {ends[k][0] for k in ks}
+        late = {}
+        for k in group:
+            i, s_end, p, d = ends[k]
+            if i in members or i in late:
+                continue
+            to_x = x - p
+            dist = float(np.linalg.norm(to_x))
+            if delta < dist <= reach and float(d @ to_x) >= np.cos(np.radians(LATE_DEG)) * dist:
+                late[i] = s_end
+        if not late and max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
+            continue        # (ends drawn to within delta of the point: they touch there, the other rules join them)
+        attach = []
+        for k in ks:
+            i, s_end, _, _ = ends[k]
+            attach.append((i, places[k] if abs(places[k] - s_end) <= reach else s_end))
+            done.add((i, s_end))
+        for i, s_end in late.items():
+            attach.append((i, s_end))
+            done.add((i, s_end))
+        # the places where these strokes touch one another near the meeting (the crossings of ends
+        # run over it, an end passing another) are that meeting: left to it alone (a second
+        # candidate on one of their ends made a second node beside it, and a sliver between)
+        place = dict(attach)
+        end_of = {ends[k][0]: ends[k][1] for k in ks}
+        end_of.update(late)
+
+        def cut(i: int, sc: float) -> bool:
+            """On stroke i's piece past the meeting: cut away."""
+            return i in place and (sc < place[i] - 1e-9 if end_of[i] == 0.0 else sc > place[i] + 1e-9)
+
+        def at_meeting(i: int, sc: float) -> bool:
+            """Cut away, or within 2 delta of the meeting on stroke i."""
+            return i in place and (cut(i, sc) or abs(sc - place[i]) <= 2 * delta)
+
+        def late_end(i: int, sc: float) -> bool:
+            """At the end of a stroke that joined the meeting late: its end is the meeting (where
+            it passes the strokes converging there, it does not touch them)."""
+            return i in late and abs(sc - late[i]) <= 2 * delta
+
+        keep = [c for c in range(len(cands.points))
+                if not (np.linalg.norm(cands.points[c] - x) <= 2 * reach
+                        and (all(at_meeting(i, sc) for i, sc in cands.attach[c])
+                             or any(cut(i, sc) or late_end(i, sc) for i, sc in cands.attach[c])))]
+        cands.points[:] = [cands.points[c] for c in keep]
+        cands.attach[:] = [cands.attach[c] for c in keep]
+        cands.add(x, attach)
+    return done
+
+
+def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, keep: dict) -> None:
+    """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
+    own other end, for a closed stroke) is joined to its nearest point there; ends that meet at one
+    point (_meeting_ends) are joined there first. keep: stroke -> [lo, hi], the arc lengths of the
+    part a trim leaves (an over-sketched run's cut-away piece joins nothing: the stroke it ran
+    along lies there too)."""
+    reach = PROXIMITY * delta
+    boxes = Boxes(strokes)
+    cums = {i: cumulative_length(strokes[i]) for i in live}
+    met = _meeting_ends(strokes, cums, live, delta, cands, boxes)
+    free = []
+    for i in live:
+        total = chord_length(strokes[i])
+        closes = total > 4 * reach and np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= reach
+        for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
+            if (i, 0.0 if s_end == 0.0 else float(cums[i][-1])) in met:
+                continue
+            best = None
+            near = boxes.close_to(p, p, reach)
+            for j in live:
+                if j == i or not near[j]:
+                    continue
+                d, sj = _nearest_kept(p, strokes[j], cums[j], keep[j])
+                if d <= reach and (best is None or d < best[0]):
+                    best = (d, j, sj)
+            if best is None and not closes:
+                direction = _end_direction(strokes[i], cums[i], s_end, delta)
+                best = _extension(strokes, cums, i, s_end, direction, live, boxes, delta)
+                if best is not None:
+                    _, j, sj = best
+                    cands.add(point_at_length(strokes[j], sj, cums[j]), [(i, s_end), (j, sj)])
+                    continue
+                free.append((i, s_end, p, direction))
+            if best is not None:
+                _, j, sj = best
+                cands.add(0.5 * (p + point_at_length(strokes[j], sj, cums[j])), [(i, s_end), (j, sj)])
+        if closes:
+            cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
+    _corner_gaps(free, delta, cands)
+
+
+def _nearest_kept(p: FloatArray, stroke: FloatArray, cum: FloatArray, kept: list) -> tuple[float, float]:
+    """(distance, arc length) of the point of a stroke's kept part [lo, hi] nearest p (3,)."""
+    lo, hi = kept
+    d, s = nearest_on(p[None], stroke, cum)
+    if lo - 1e-9 <= s[0] <= hi + 1e-9:
+        return float(d[0]), float(s[0])
+    piece = stroke_piece(stroke, cum, lo, hi, point_at_length(stroke, lo, cum), point_at_length(stroke, hi, cum))
+    d, s = nearest_on(p[None], piece)
+    return float(d[0]), lo + float(s[0])
+
+
+def _end_direction(stroke: FloatArray, cum: FloatArray, s_end: float, delta: float) -> FloatArray | None:
+    """The unit direction a stroke leaves by at its end s_end (over its last delta, at most half
+    of it), or None."""
+    total = float(cum[-1])
+    p = point_at_length(stroke, s_end, cum)
+    back = point_at_length(stroke, min(delta, 0.5 * total) if s_end == 0.0 else max(total - delta, 0.5 * total), cum)
+    d = p - back
+    size = float(np.linalg.norm(d))
+    return d / size if size > 0 else None
+
+
+def ring_bridge(stroke: FloatArray, delta: float) -> FloatArray | None:
+    """The points (m, 3) that close a ring drawn with a gap at its seam (RING_GAP, RING_DEG): a
+    cubic Hermite arc from its end, leaving in the end's direction, to its start (the last point),
+    arriving in the start's; None when the stroke is no such ring or its ends are within the
+    closing reach (PROXIMITY x delta: closed as they are)."""
+    cum = cumulative_length(stroke)
+    total = float(cum[-1])
+    gap = stroke[0] - stroke[-1]
+    size = float(np.linalg.norm(gap))
+    if not (PROXIMITY * delta < size <= RING_GAP * total and total > 4 * PROXIMITY * delta):
+        return None
+    leave_end = _end_direction(stroke, cum, total, delta)
+    leave_start = _end_direction(stroke, cum, 0.0, delta)
+    if leave_end is None or leave_start is None:
+        return None
+    # a circle's end runs off the chord of a gap of share f of it by 180 f deg; RING_DEG on top
+    cos = np.cos(np.radians(RING_DEG + 180.0 * size / total))
+    if float(leave_end @ gap) < cos * size or float(-(leave_start @ gap)) < cos * size:
+        return None
+    step = total / max(len(stroke) - 1, 1)      # (the mean: repeated points leave the median at 0)
+    t = np.linspace(0.0, 1.0, min(max(int(np.ceil(size / step)), 2), len(stroke)) + 1)[1:]
+    return hermite_basis(t) @ np.array([stroke[-1], size * leave_end, -size * leave_start, stroke[0]])
+
+
+def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
+    """Two free stroke ends (no stroke near either, nor ahead of it) whose directions lead, each
+    within EXTEND x delta, to one place where they pass within CORNER_MISS x delta of each other: two strokes
+    that both stopped short of the corner they make. They meet at that place (the paper's closing
+    extends such a gap). The closest pairs first; an end joins once."""
+    reach = EXTEND * delta
+    pairs = []
+    for x in range(len(free)):
+        i, si, p, d = free[x]
+        for y in range(x + 1, len(free)):
+            j, sj, q, e = free[y]
+            if i == j or d is None or e is None or np.linalg.norm(p - q) > reach:
+                continue
+            # closest approach of the rays p + a d and q + b e
+            w = p - q
+            c = float(d @ e)
+            den = 1.0 - c * c
+            if den < 1e-6:
+                continue
+            a = (c * float(e @ w) - float(d @ w)) / den
+            b = (float(e @ w) - c * float(d @ w)) / den
+            if not (0.0 <= a <= reach and 0.0 <= b <= reach):
+                continue
+            gap = float(np.linalg.norm((p + a * d) - (q + b * e)))
+            if gap <= CORNER_MISS * delta:
+                pairs.append((a + b, x, y, 0.5 * ((p + a * d) + (q + b * e))))
+    used: set = set()
+    for _, x, y, point in sorted(pairs, key=lambda t: t[0]):
+        if x in used or y in used:
+            continue
+        used |= {x, y}
+        cands.add(point, [(free[x][0], free[x][1]), (free[y][0], free[y][1])])
+
+
+def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | None, live: list,
+               boxes: "Boxes", delta: float) -> tuple | None:
+    """(distance, stroke j, arc length on j) of the nearest stroke point ahead of stroke i's end at
+    s_end along the end's own direction d (_end_direction; None: no direction, no extension):
+    within EXTEND x delta of the end and EXTEND_DEG of that direction (a delta / 4 aside allowed for
+    the strokes' noise); on stroke i itself only further than 4 x EXTEND x delta from the end along
+    it. None when there is none."""
+    if d is None:
+        return None
+    p = strokes[i][0] if s_end == 0.0 else strokes[i][-1]
+    reach = EXTEND * delta
+    near = boxes.close_to(p, p, reach)
+    best = None
+    for j in live:
+        if not near[j]:
+            continue
+        step = 0.25 * delta
+        s = np.arange(0.0, float(cums[j][-1]) + step, step)
+        s = np.minimum(s, cums[j][-1])
+        if j == i:
+            s = s[np.abs(s - s_end) > 4 * reach]
+            if not len(s):
+                continue
+        q = point_at_length(strokes[j], s, cums[j])
+        v = q - p
+        along = v @ d
+        aside = np.linalg.norm(v - along[:, None] * d, axis=1)
+        ok = (along > 0) & (along <= reach) & (aside <= along * np.tan(np.radians(EXTEND_DEG)) + 0.25 * delta)
+        if ok.any():
+            # the place closest to the end's line of sight, then its foot on the stroke
+            k = int(np.flatnonzero(ok)[np.argmin(aside[ok] / along[ok])])
+            _, foot = nearest_on((p + along[k] * d)[None], strokes[j], cums[j])
+            if best is None or along[k] < best[0]:
+                best = (float(along[k]), j, float(foot[0]))
+    return best
+
+
+def stroke_piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray, p1: FloatArray) -> FloatArray:
+    """The stroke between arc lengths s0 < s1, its ends replaced by the node points p0, p1."""
+    inner = stroke[(cum > s0) & (cum < s1)]
+    return np.vstack([p0, inner, p1])
