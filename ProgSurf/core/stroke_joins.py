@@ -217,8 +217,9 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
     own other end, for a closed stroke) is joined to its nearest point there; ends that meet at one
     point (_meeting_ends) are joined there first. keep: stroke -> [lo, hi], the arc lengths of the
-    part a trim leaves (an over-sketched run's cut-away piece joins nothing: the stroke it ran
-    along lies there too)."""
+    part a trim leaves: an over-sketched run's cut-away piece joins nothing (the stroke it ran
+    along lies there too), and an end it held joins nothing either (held at the cut, such a join
+    tied the stroke to a place up to 300 mm beyond it)."""
     reach = PROXIMITY * delta
     boxes = Boxes(strokes)
     cums = {i: cumulative_length(strokes[i]) for i in live}
@@ -230,6 +231,8 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
             if (i, 0.0 if s_end == 0.0 else float(cums[i][-1])) in met:
                 continue
+            if keep[i][0] > 1e-9 * total if s_end == 0.0 else keep[i][1] < total * (1 - 1e-9):
+                continue    # a trim cut this end away; the trim joined the stroke where it cut it
             best = None
             near = boxes.close_to(p, p, reach)
             for j in live:

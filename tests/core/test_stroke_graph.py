@@ -651,3 +651,4 @@ def test_an_end_beside_a_cut_away_run_joins_the_stroke_that_stays():
     assert len(t) == 1 and abs(t[0].point[0] - 55.0) < 1.0
     _edges_end_where_their_strokes_do(g, strokes, 2.0)
 
+
