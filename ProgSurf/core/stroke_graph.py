@@ -133,7 +133,6 @@ class StrokeGraph:
         return [e for e in self.edges if e.stroke == stroke]
 
 
-
 def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
     """{stroke: the longer stroke it over-sketches}: within delta of it along OVERSKETCH_COVER of
     its length (measured at its points and chord midpoints)."""

@@ -81,9 +81,8 @@ class Boxes:
         return np.all(lo - margin <= self.hi, axis=1) & np.all(self.lo - margin <= hi, axis=1)
 
 
-
 def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: NodeCandidates,
-                  boxes: "Boxes") -> set:
+                  boxes: Boxes) -> set:
     """Groups of MEET_ENDS or more stroke ends that meet at one point (MEET_ENDS): one node
     candidate each, at the point nearest to the ends' lines (each stroke attached at its place
     nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
@@ -231,7 +230,8 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
         for s_end, p in ((0.0, strokes[i][0]), (total, strokes[i][-1])):
             if (i, 0.0 if s_end == 0.0 else float(cums[i][-1])) in met:
                 continue
-            if keep[i][0] > 1e-9 * total if s_end == 0.0 else keep[i][1] < total * (1 - 1e-9):
+            cut_away = keep[i][0] > 1e-9 * total if s_end == 0.0 else keep[i][1] < total * (1 - 1e-9)
+            if cut_away:
                 continue    # a trim cut this end away; the trim joined the stroke where it cut it
             best = None
             near = boxes.close_to(p, p, reach)
@@ -243,7 +243,7 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
                     best = (d, j, sj)
             if best is None and not closes:
                 direction = _end_direction(strokes[i], cums[i], s_end, delta)
-                best = _extension(strokes, cums, i, s_end, direction, live, boxes, delta)
+                best = _extension(strokes, cums, i, s_end, direction, live, boxes, delta, keep)
                 if best is not None:
                     _, j, sj = best
                     cands.add(point_at_length(strokes[j], sj, cums[j]), [(i, s_end), (j, sj)])
@@ -260,6 +260,8 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
 def _nearest_kept(p: FloatArray, stroke: FloatArray, cum: FloatArray, kept: list) -> tuple[float, float]:
     """(distance, arc length) of the point of a stroke's kept part [lo, hi] nearest p (3,)."""
     lo, hi = kept
+    if hi <= lo:
+        return float("inf"), lo     # trims at both ends that overlap leave nothing
     d, s = nearest_on(p[None], stroke, cum)
     if lo - 1e-9 <= s[0] <= hi + 1e-9:
         return float(d[0]), float(s[0])
@@ -338,12 +340,12 @@ def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
 
 
 def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | None, live: list,
-               boxes: "Boxes", delta: float) -> tuple | None:
+               boxes: Boxes, delta: float, keep: dict) -> tuple | None:
     """(distance, stroke j, arc length on j) of the nearest stroke point ahead of stroke i's end at
     s_end along the end's own direction d (_end_direction; None: no direction, no extension):
     within EXTEND x delta of the end and EXTEND_DEG of that direction (a delta / 4 aside allowed for
-    the strokes' noise); on stroke i itself only further than 4 x EXTEND x delta from the end along
-    it. None when there is none."""
+    the strokes' noise), on the part of stroke j a trim leaves (keep, as in end_joins); on stroke i
+    itself only further than 4 x EXTEND x delta from the end along it. None when there is none."""
     if d is None:
         return None
     p = strokes[i][0] if s_end == 0.0 else strokes[i][-1]
@@ -354,8 +356,10 @@ def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | 
         if not near[j]:
             continue
         step = 0.25 * delta
-        s = np.arange(0.0, float(cums[j][-1]) + step, step)
-        s = np.minimum(s, cums[j][-1])
+        lo, hi = keep[j]
+        if hi <= lo:
+            continue
+        s = np.minimum(np.arange(lo, hi + step, step), hi)
         if j == i:
             s = s[np.abs(s - s_end) > 4 * reach]
             if not len(s):
@@ -374,7 +378,8 @@ def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | 
     return best
 
 
-def stroke_piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray, p1: FloatArray) -> FloatArray:
+def stroke_piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray,
+                 p1: FloatArray) -> FloatArray:
     """The stroke between arc lengths s0 < s1, its ends replaced by the node points p0, p1."""
     inner = stroke[(cum > s0) & (cum < s1)]
     return np.vstack([p0, inner, p1])

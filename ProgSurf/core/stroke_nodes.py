@@ -50,7 +50,7 @@ delta from their ends) in a triangle of 0.7 delta, which kept apart made a slive
 facing every way, and a sketch of one surface built as several (exit 3). Near the strokes' ends
 the rules above stand: the guides of the noisy TiGL fuselage converge to its nose in triangles of
 0.6-0.95 delta with crossings 0-0.8 delta from their ends (the 2 delta of a T-node's reach,
-core.stroke_graph.PROXIMITY, separates them)."""
+core.stroke_joins.PROXIMITY, separates them)."""
 
 APEX_PARTING = 0.25
 """Two strokes that end together in a run along each other meet at an apex when, halfway along the

@@ -639,16 +639,16 @@ def _edges_end_where_their_strokes_do(g, strokes, reach):
             assert np.linalg.norm(g.nodes[node].point - at) <= reach, (e.id, e.stroke, node)
 
 
-def test_an_end_beside_a_cut_away_run_joins_the_stroke_that_stays():
-    """A stem that stops 1.5 delta above the two-piece line at x 55, where only P's cut-away run is
-    nearer than Q, joins Q there (a T-node at x 55), not P's cut (x 40, 15 delta away): the cut-away
-    piece of an over-sketched run joins nothing, the stroke it ran along lies there too."""
+@pytest.mark.parametrize("short", [1.5, 2.5])
+def test_an_end_beside_a_cut_away_run_joins_the_stroke_that_stays(short):
+    """A stem that stops above the two-piece line at x 55, where only P's cut-away run is nearer
+    than Q, joins Q there (a T-node at x 55), not P's cut (x 40, 15 delta away): the cut-away piece
+    of an over-sketched run joins nothing, the stroke it ran along lies there too. So too when
+    the stem stopped short of the line (2.5 delta, beyond a T-node's reach) and is extended to it."""
     p, q = _two_piece_line()
-    stem = line([55, 40, 0], [55, 1.5, 0])
+    stem = line([55, 40, 0], [55, short, 0])
     strokes = [p, q, stem]
     g = build_stroke_graph(strokes, 1.0)
     t = _nodes_of(g, [1, 2])
     assert len(t) == 1 and abs(t[0].point[0] - 55.0) < 1.0
-    _edges_end_where_their_strokes_do(g, strokes, 2.0)
-
-
+    _edges_end_where_their_strokes_do(g, strokes, short + 0.5)
