@@ -18,7 +18,8 @@ CASSIE (Yu et al., CHI 2021) publishes:
   over-sketch of it: merged (left out, recorded); a stroke whose end runs along another over more
   than PROXIMITY x delta is trimmed where it leaves it, and joined there, unless the two strokes
   end together there and part steadily, the rulings of a cone at its tip: they meet at that apex
-  (core.stroke_nodes.apex_meeting);
+  (core.stroke_nodes.apex_meeting); where the other runs on well past the cut-away piece, what
+  crosses that piece crosses the other instead (_off_cut_away);
 - two strokes that run side by side, away from their ends, further apart than SIDE_GAP x delta
   (yet within delta) do not touch there: curves of one family drawn close together, a boom's
   guides (_side_by_side);
@@ -188,7 +189,7 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
                     continue
                 if run and not apex_meeting(a, b, cums[i], cums[j], rows, cols, delta):
                     # a run along the other stroke: trim the stroke whose end lies in the run
-                    _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes)
+                    _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes, delta)
                     continue
                 pa = point_at_length(a, sa, cums[i])
                 pb = point_at_length(b, sb, cums[j])
@@ -231,7 +232,8 @@ def _is_run(cum_a: FloatArray, cum_b: FloatArray, rows: np.ndarray, cols: np.nda
     return min(along_a, along_b) > 2 * PROXIMITY * delta
 
 
-def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCandidates, strokes: list) -> None:
+def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCandidates, strokes: list,
+              delta: float) -> None:
     """A stroke that runs along another over part of its length (an over-sketched run): the one
     whose end lies in the run is cut where the run leaves it and joined to the other there."""
     for me, other, mine, theirs, sp, tp in ((i, j, rows, cols, s, t), (j, i, cols, rows, t.T, s.T)):
@@ -242,7 +244,13 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCa
         if lo <= 1e-9 * total or hi >= total * (1 - 1e-9):
             at_start = lo <= 1e-9 * total
             keep_from = hi if at_start else lo
-            trims.setdefault(me, []).append((at_start, keep_from))
+            # do both end there (guides converging on a tip; the other runs on past the cut-away
+            # end by a hook at most) or does the other run on (a curve drawn again over part of it)
+            cut_end = strokes[me][0] if at_start else strokes[me][-1]
+            _, s_foot = nearest_on(cut_end[None], strokes[other], cums[other])
+            beyond = min(s_foot[0], cums[other][-1] - s_foot[0])
+            together = beyond <= max(HOOK * delta, HOOK_FRACTION * cums[other][-1])
+            trims.setdefault(me, []).append((at_start, keep_from, together))
             p = point_at_length(strokes[me], keep_from, cum)
             d, s_other = nearest_on(p[None], strokes[other], cums[other])
             cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0], cums[other])),
@@ -286,13 +294,17 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     _crossings(arrays, live, delta, cands, trims)
     # a trimmed stroke keeps only the part out of its run along the other stroke
     keep_range = {i: [0.0, lengths[i]] for i in live}
+    overlaps: dict = {}
     for i, cuts in trims.items():
-        for at_start, s in cuts:
+        for at_start, s, together in cuts:
+            if not together:
+                overlaps.setdefault(i, set()).add(at_start)
             if at_start:
                 keep_range[i][0] = max(keep_range[i][0], s)
             else:
                 keep_range[i][1] = min(keep_range[i][1], s)
             notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
+    cands = _off_cut_away(cands, keep_range, overlaps, delta)
     end_joins(arrays, live, delta, cands, keep_range)
 
     labels = merge_candidates(cands, arrays, delta)
@@ -388,6 +400,26 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     for i, text in bridged.items():
         notes[i] = text + (f"; {notes[i]}" if i in notes else "")
     return StrokeGraph(tuple(nodes), graph_edges, float(delta), tuple(arrays), notes, merged)
+
+
+def _off_cut_away(cands: NodeCandidates, keep_range: dict, overlaps: dict, delta: float) -> NodeCandidates:
+    """The node candidates without their attachments further than PROXIMITY x delta into a piece
+    that a trim cut away from a stroke drawn over part of another (overlaps: stroke -> the ends,
+    True for its start, cut where the other runs on well past it): a stroke crossing that piece
+    crosses the other there too and gets its node on it. Held at the cut, such an attachment tied
+    the cut stroke to a place up to 300 mm beyond it (a grid's border drawn as two halves and a
+    redraw: a bogus edge beside the other and a missing surface). Where both strokes end together
+    (guides converging on a tip) the attachment stays: it is the cut stroke's way to the tip.
+    Candidates left joining one stroke only are dropped."""
+    out = NodeCandidates()
+    reach = PROXIMITY * delta
+    for point, att in zip(cands.points, cands.attach):
+        kept = [(i, s) for i, s in att
+                if not ((s < keep_range[i][0] - reach and True in overlaps.get(i, ()))
+                        or (s > keep_range[i][1] + reach and False in overlaps.get(i, ())))]
+        if len({i for i, _ in kept}) >= 2:
+            out.add(point, kept)
+    return out
 
 
 def _passes_through(n: int, edges: list) -> bool:

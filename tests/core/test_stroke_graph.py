@@ -652,3 +652,18 @@ def test_an_end_beside_a_cut_away_run_joins_the_stroke_that_stays(short):
     t = _nodes_of(g, [1, 2])
     assert len(t) == 1 and abs(t[0].point[0] - 55.0) < 1.0
     _edges_end_where_their_strokes_do(g, strokes, short + 0.5)
+
+
+def test_a_crossing_on_a_cut_away_run_does_not_take_the_cut():
+    """A rung drawn first across the two-piece line at x 50 crosses P's cut-away run and Q in one
+    node. Q runs on 40 delta past P's cut-away end, so the crossing is Q's alone: P, cut at x 40,
+    ends at the node of its cut (shared with Q), not at the rung's node 10 delta further on
+    (stroke_graph._off_cut_away)."""
+    p, q = _two_piece_line()
+    rung = line([50, -30, 0], [50, 30, 0], 60)
+    strokes = [rung, p, q]
+    g = build_stroke_graph(strokes, 1.0)
+    p_ends = [g.nodes[n].point for e in g.edges if e.stroke == 1 for n in (e.node0, e.node1)]
+    assert p_ends and max(np.linalg.norm(x - [40, 0, 0]) for x in p_ends if x[0] > 20) < 2.0
+    assert len(_nodes_of(g, [0, 2])) == 1
+    _edges_end_where_their_strokes_do(g, strokes, 2.0)
