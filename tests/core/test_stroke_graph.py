@@ -656,9 +656,9 @@ def test_an_end_beside_a_cut_away_run_joins_the_stroke_that_stays(short):
 
 def test_a_crossing_on_a_cut_away_run_does_not_take_the_cut():
     """A rung drawn first across the two-piece line at x 50 crosses P's cut-away run and Q in one
-    node. Q runs on 40 delta past P's cut-away end, so the crossing is Q's alone: P, cut at x 40,
-    ends at the node of its cut (shared with Q), not at the rung's node 10 delta further on
-    (stroke_graph._off_cut_away)."""
+    node. Q runs on past P's cut-away end both ways by more than a hook (20 and 40 delta), so the
+    crossing is Q's alone: P, cut at x 40, ends at the node of its cut (shared with Q), not at the
+    rung's node 10 delta further on (stroke_graph._off_cut_away)."""
     p, q = _two_piece_line()
     rung = line([50, -30, 0], [50, 30, 0], 60)
     strokes = [rung, p, q]
@@ -667,3 +667,18 @@ def test_a_crossing_on_a_cut_away_run_does_not_take_the_cut():
     assert p_ends and max(np.linalg.norm(x - [40, 0, 0]) for x in p_ends if x[0] > 20) < 2.0
     assert len(_nodes_of(g, [0, 2])) == 1
     _edges_end_where_their_strokes_do(g, strokes, 2.0)
+
+
+def test_guides_converging_on_a_tip_keep_their_crossings_there():
+    """Two guides that run together into a tip (within 0.3 delta over their last 8 delta, ending
+    1 delta apart) are a run, and one is trimmed; a third curve crossing both at the tip keeps its
+    crossing with the trimmed one, which still reaches it there (_off_cut_away leaves the pieces
+    of strokes that end together alone)."""
+    a = np.vstack([line([-40, 20, 0], [0, 0.3, 0], 60)[:-1], line([0, 0.3, 0], [10, 0.3, 0], 21)])
+    b = np.vstack([line([-40, -20, 0], [0, -0.3, 0], 60)[:-1], line([0, -0.3, 0], [11, -0.3, 0], 23)])
+    c = line([9, -20, 0], [9, 20, 0], 60)
+    strokes = [c, a, b]
+    g = build_stroke_graph(strokes, 1.0)
+    assert any("trimmed" in note for note in g.notes.values())
+    kept = _nodes_of(g, [0, 1])
+    assert len(kept) == 1 and abs(kept[0].point[0] - 9.0) < 1.0
