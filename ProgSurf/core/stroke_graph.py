@@ -307,6 +307,8 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             else:
                 keep_range[i][1] = min(keep_range[i][1], s)
             notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
+        if keep_range[i][1] <= keep_range[i][0]:
+            notes[i] = "drawn over other strokes from both ends, the runs overlapping: nothing of it is left"
     cands = _off_cut_away(cands, keep_range, overlaps, delta)
     end_joins(arrays, live, delta, cands, keep_range)
 

@@ -682,3 +682,13 @@ def test_guides_converging_on_a_tip_keep_their_crossings_there():
     assert any("trimmed" in note for note in g.notes.values())
     kept = _nodes_of(g, [0, 1])
     assert len(kept) == 1 and abs(kept[0].point[0] - 9.0) < 1.0
+
+
+def test_a_stroke_drawn_over_from_both_ends_says_nothing_of_it_is_left():
+    """A short stroke whose start runs along one stroke and whose end along another, the two runs
+    overlapping, is trimmed from both ends to nothing: it has no edge, and its note says why (it
+    said only that its start was trimmed)."""
+    s = line([0, 0, 0], [20, 0, 0], 81)
+    g = build_stroke_graph([s, line([-30, 0.3, 0], [13, 0.3, 0], 100), line([7, -0.3, 0], [50, -0.3, 0], 100)], 1.0)
+    assert not [e for e in g.edges if e.stroke == 0]
+    assert "nothing of it is left" in g.notes[0]
