@@ -246,15 +246,16 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCa
             keep_from = hi if at_start else lo
             p = point_at_length(strokes[me], keep_from, cum)
             d, s_other = nearest_on(p[None], strokes[other], cums[other])
-            # the cut-away end lies within a hook (HOOK delta or HOOK_FRACTION of the other's
-            # length, the larger) of an end of the other: both end there (guides converging on a
-            # tip) or the run is that short; else the other runs on well past it both ways (a
-            # curve drawn again over part of it). (Measured towards the other's end beyond the
-            # cut-away end only, rough bodies lost loops at their tips: 262 -> 256 of 288.)
+            # the cut-away end lies within a hook (HOOK delta or HOOK_FRACTION of the longer
+            # stroke's length, the larger) of an end of the other: both end there (guides
+            # converging on a tip, one drawn in two pieces) or the run is that short; else the
+            # other runs on well past it both ways (a curve drawn again over part of it).
+            # (Measured towards the other's end beyond the cut-away end only, rough bodies lost
+            # loops at their tips: 262 -> 256 of 288; of the other's length alone, 262.)
             cut_end = strokes[me][0] if at_start else strokes[me][-1]
             _, s_foot = nearest_on(cut_end[None], strokes[other], cums[other])
             beyond = min(s_foot[0], cums[other][-1] - s_foot[0])
-            together = beyond <= max(HOOK * delta, HOOK_FRACTION * cums[other][-1])
+            together = beyond <= max(HOOK * delta, HOOK_FRACTION * max(cums[other][-1], cums[me][-1]))
             trims.setdefault(me, []).append((at_start, keep_from, together))
             cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0], cums[other])),
                       [(me, keep_from), (other, s_other[0])])

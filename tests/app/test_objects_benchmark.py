@@ -79,13 +79,16 @@ def test_a_redraw_of_an_open_curve_stays_on_it():
     assert checked >= 100
 
 
-@pytest.mark.parametrize("seed", [1009, 7003])
+@pytest.mark.parametrize("seed", [1009, 7003, 3006])
 def test_rough_bodies_whose_guides_run_over_each_other_at_a_tip_make_every_loop(seed):
     """Two rough bodies (a looser hand) whose guides near a tip run over each other and are
     trimmed there: an end the trim cut away joined another guide, held at the cut, and left a
     node on that guide's piece to the tip that split a tip triangle's side (core.stroke_joins:
-    17 of 18 loops; the loop with the extra node was dropped as spanning no surface). Every loop
-    of the body is found: guides x (rings + 1)."""
+    17 of 18 loops; the loop with the extra node was dropped as spanning no surface). In 3006r a
+    guide's short piece runs over the tip 20 % of its length and the other guide is trimmed
+    against it: the crossings at the tip stay on the trimmed guide, a hook of the longer stroke
+    (stroke_graph._run_trim: 23 of 24 loops with a hook of the piece). Every loop of the body is
+    found: guides x (rings + 1)."""
     from ProgSurf.core.objects import stroke_network
 
     sk = make_object("body", seed, rough=True)
