@@ -15,8 +15,10 @@ CASSIE (Yu et al., CHI 2021) publishes:
   gap the strokes leave there (core.stroke_nodes.merge_candidates), so that a feature smaller
   than delta, drawn precisely, keeps its nodes apart;
 - a stroke lying within delta of a longer one along OVERSKETCH_COVER of its length is an
-  over-sketch of it: merged (left out, recorded); a stroke whose end runs along another over more
-  than PROXIMITY x delta is trimmed where it leaves it, and joined there, unless the two strokes
+  over-sketch of it: merged (left out, recorded), unless it carries the curve on past the other
+  by more than a hook (_tail); a stroke whose end runs along another over more than PROXIMITY x
+  delta, or overlaps another's end head to head (_head_to_head), is trimmed where it leaves it,
+  and joined there, unless the two strokes
   end together there and part steadily, the rulings of a cone at its tip: they meet at that apex
   (core.stroke_nodes.apex_meeting); where the other runs on well past the cut-away piece, what
   crosses that piece crosses the other instead (_off_cut_away);
@@ -26,7 +28,9 @@ CASSIE (Yu et al., CHI 2021) publishes:
 - stroke ends join the network where they stop near a stroke, stopped short of one, or meet
   other ends at one point; rings drawn with a gap at their seam are bridged (core.stroke_joins);
 - an end piece beyond the stroke's last node no longer than HOOK x delta and HOOK_FRACTION of the
-  stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1.
+  stroke is a hook: removed; a longer one stays as a dangling edge to an end node of degree 1;
+  an end piece that loops back to the node it left, no longer than HOOK_FRACTION of the stroke
+  or lying along the stroke's own other part (a ring drawn on past its seam), is removed too.
 
 Edges are the stroke pieces between consecutive nodes; their end points are the node points
 exactly, so that edges meeting at a node meet there to round-off.
@@ -41,12 +45,17 @@ import numpy.typing as npt
 
 from .stroke_nodes import (NodeCandidates, apex_meeting, components, ends_in, merge_candidates, nearest_on,
                            seam_twins, segment_distances)
-from .stroke_joins import HOOK, HOOK_FRACTION, PROXIMITY, Boxes, end_joins, ring_bridge, stroke_piece
+from .stroke_joins import (EXTEND, HOOK, HOOK_FRACTION, PROXIMITY, Boxes, end_direction, end_joins,
+                           ring_bridge, ring_overlaps, stroke_piece)
 from .strokes import chord_length, cumulative_length, point_at_length
 from .types import FloatArray
 
 OVERSKETCH_COVER = 0.8
 """A stroke within delta of a longer stroke along this fraction of its length is an over-sketch."""
+
+HEAD_DEG = 30.0
+"""Two strokes whose ends overlap, leaving them within this of opposite ways, are head to head
+(_head_to_head)."""
 
 SIDE_GAP = 0.5
 """Two strokes that come no closer than this many delta, away from their ends, ..."""
@@ -156,15 +165,35 @@ def _oversketched(strokes: list, lengths: list, delta: float) -> dict:
             if np.mean(inbox) < OVERSKETCH_COVER:
                 continue
             d, _ = nearest_on(probe, strokes[i])
-            if np.mean(d <= delta) >= OVERSKETCH_COVER:
+            if np.mean(d <= delta) >= OVERSKETCH_COVER and not _tail(pj, d[:len(pj)] <= delta, delta, [
+                    strokes[k] for k in range(len(strokes)) if k not in (i, j) and lengths[k] > 0.0]):
                 merged[j] = i
     return merged
+
+
+def _tail(stroke: FloatArray, close: np.ndarray, delta: float, others: list) -> bool:
+    """Whether a stroke whose points are within delta of another where `close` holds leaves it at
+    an end for longer than a hook (HOOK, HOOK_FRACTION): it carries the curve on past the other's
+    end (a guide drawn again from 7 delta short of its tip, the first stroke reaching it) or off
+    it. Merged, that piece was lost; a run trim keeps it (_run_trim). A piece that runs along one
+    of the `others` (OVERSKETCH_COVER of it within delta: a short stroke joining two halves of a
+    border) is no tail."""
+    if not close.any():
+        return False
+    cum = cumulative_length(stroke)
+    first, last = int(np.argmax(close)), len(close) - 1 - int(np.argmax(close[::-1]))
+    hook = min(HOOK * delta, HOOK_FRACTION * float(cum[-1]))
+    for piece, length in ((stroke[:first + 1], float(cum[first])), (stroke[last:], float(cum[-1] - cum[last]))):
+        if length > hook and not any(np.mean(nearest_on(piece, o)[0] <= delta) >= OVERSKETCH_COVER for o in others):
+            return True
+    return False
 
 
 def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, trims: dict) -> None:
     """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring)."""
     cums = [cumulative_length(s) for s in strokes]
     boxes = Boxes(strokes)
+    tips = np.array([[i, *strokes[i][k]] for i in live for k in (0, -1)]).reshape(-1, 4)
     for x, i in enumerate(live):
         near = boxes.close_to(boxes.lo[i], boxes.hi[i], delta)
         for j in live[x + 1:]:
@@ -187,13 +216,35 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
                 if (not any(ends_in(cums[i], rows) + ends_in(cums[j], cols)) and not _again(spans, k_comp)
                         and _side_by_side(a, b, cums[i], cums[j], sa, sb, float(dist[r, c]), delta)):
                     continue
-                if run and not apex_meeting(a, b, cums[i], cums[j], rows, cols, delta):
+                if (run and not apex_meeting(a, b, cums[i], cums[j], rows, cols, delta)) or _head_to_head(
+                        a, b, cums[i], cums[j], rows, cols, delta, tips[(tips[:, 0] != i) & (tips[:, 0] != j), 1:]):
                     # a run along the other stroke: trim the stroke whose end lies in the run
                     _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes, delta)
                     continue
                 pa = point_at_length(a, sa, cums[i])
                 pb = point_at_length(b, sb, cums[j])
                 cands.add(0.5 * (pa + pb), [(i, sa), (j, sb)])
+
+
+def _head_to_head(a: FloatArray, b: FloatArray, cum_a: FloatArray, cum_b: FloatArray, rows: np.ndarray,
+                  cols: np.ndarray, delta: float, other_ends: FloatArray) -> bool:
+    """Whether a close component of two strokes (rows of a, cols of b) holds one end of each and the
+    strokes leave those ends within HEAD_DEG of opposite ways: a curve drawn in two strokes, their
+    ends overlapping by less than a run (_is_run). Such an overlap is trimmed as a run is
+    (_run_trim): one joint. As a crossing, each end joined the other stroke apart, up to 2.3
+    delta, and where a third curve crossed there the joint was three nodes and a sliver (objects
+    benchmark tube_15002r). Not where other strokes end too (other_ends (k, 3) within 2 EXTEND x
+    delta of the overlap's ends): the guides of a body meet at its tip, two from opposite sides
+    overlapping so (trimmed, the tip's meeting lost 5 of 20 loops, body_1003r)."""
+    ea, eb = ends_in(cum_a, rows), ends_in(cum_b, cols)
+    if sum(ea) != 1 or sum(eb) != 1:
+        return False
+    here = 0.5 * ((a[0] if ea[0] else a[-1]) + (b[0] if eb[0] else b[-1]))
+    if len(other_ends) and np.min(np.linalg.norm(other_ends - here, axis=1)) <= 2 * EXTEND * delta:
+        return False
+    da = end_direction(a, cum_a, 0.0 if ea[0] else float(cum_a[-1]), delta)
+    db = end_direction(b, cum_b, 0.0 if eb[0] else float(cum_b[-1]), delta)
+    return da is not None and db is not None and float(da @ db) <= -np.cos(np.radians(HEAD_DEG))
 
 
 def _again(spans: dict, k: int) -> bool:
@@ -310,8 +361,12 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
         if keep_range[i][1] <= keep_range[i][0]:
             notes[i] = "drawn over other strokes from both ends, the runs overlapping: nothing of it is left"
+    seams = ring_overlaps(arrays, live, delta, cands, keep_range)
+    for i, at_start in seams.items():
+        overlaps.setdefault(i, set()).add(at_start)
+        notes.setdefault(i, f"ring drawn on over its seam: the overlap at its {'start' if at_start else 'end'} cut away")
     cands = _off_cut_away(cands, keep_range, overlaps, delta)
-    end_joins(arrays, live, delta, cands, keep_range)
+    end_joins(arrays, live, delta, cands, keep_range, frozenset((i, not at_start) for i, at_start in seams.items()))
 
     labels = merge_candidates(cands, arrays, delta)
     groups: dict = {}
@@ -373,8 +428,10 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             if s1 - s0 <= 1e-9 * max(lengths[i], 1.0):
                 continue
             pts = stroke_piece(arrays[i], cum, s0, s1, all_points[n0], all_points[n1])
-            if n0 == n1 and chord_length(pts) <= 2 * PROXIMITY * delta:
-                continue
+            if n0 == n1 and (chord_length(pts) <= 2 * PROXIMITY * delta
+                             or ((s0 <= lo or s1 >= hi) and (s1 - s0 <= HOOK_FRACTION * lengths[i]
+                                                             or _along_itself(arrays[i], cum, s0, s1, delta)))):
+                continue    # (a loop back to its node at the stroke's end: a ring run on past its seam)
             out_edges.append((n0, n1, pts, i, s0, s1))
 
     all_points = node_points + extra_points
@@ -408,20 +465,34 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     return StrokeGraph(tuple(nodes), graph_edges, float(delta), tuple(arrays), notes, merged)
 
 
+def _along_itself(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, delta: float) -> bool:
+    """Whether the stroke's piece [s0, s1] lies within PROXIMITY x delta of the rest of the stroke
+    along OVERSKETCH_COVER of it: a ring drawn on over its own start (a VR sketch's loop ran 56 mm,
+    15.2 % of it, back over its start: kept as a loop on its seam node, the surface it bounded
+    was lost)."""
+    piece = stroke[(cum >= s0) & (cum <= s1)]
+    rest = [stroke[cum < s0], stroke[cum > s1]]
+    rest = [r for r in rest if len(r) >= 2]
+    if len(piece) < 2 or not rest:
+        return False
+    d = np.min([nearest_on(piece, r)[0] for r in rest], axis=0)
+    return float(np.mean(d <= PROXIMITY * delta)) >= OVERSKETCH_COVER
+
+
 def _off_cut_away(cands: NodeCandidates, keep_range: dict, overlaps: dict, delta: float) -> NodeCandidates:
     """The node candidates without their attachments further than PROXIMITY x delta into a piece
     that a trim cut away from a stroke drawn over part of another (overlaps: stroke -> the ends,
     True for its start, cut where the other runs on well past it): a stroke crossing that piece
     crosses the other there too and gets its node on it; held at the cut, the attachment made an
     edge of the cut stroke beside the other. Where both end together (guides converging on a tip)
-    it stays: the cut stroke's way to the tip. Candidates left joining one stroke are dropped."""
+    it stays: the cut stroke's way to the tip. Candidates left joining one stroke by it are dropped."""
     out = NodeCandidates()
     reach = PROXIMITY * delta
     for point, att in zip(cands.points, cands.attach):
         kept = [(i, s) for i, s in att
                 if not ((s < keep_range[i][0] - reach and True in overlaps.get(i, ()))
                         or (s > keep_range[i][1] + reach and False in overlaps.get(i, ())))]
-        if len({i for i, _ in kept}) >= 2:
+        if len(kept) == len(att) or len({i for i, _ in kept}) >= 2:
             out.add(point, kept)
     return out
 

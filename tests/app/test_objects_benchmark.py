@@ -94,3 +94,27 @@ def test_rough_bodies_whose_guides_run_over_each_other_at_a_tip_make_every_loop(
     sk = make_object("body", seed, rough=True)
     _, choice, _ = stroke_network(sk.strokes)
     assert len(choice.cycles) == sk.surfaces
+
+
+@pytest.mark.parametrize("kind,seed,was", [
+    ("body", 13000, 19),    # a ring's seam 2 delta from a guide: the seam and its join two nodes, one dropped
+    ("body", 13002, 17),    # a guide drawn again from 7 delta short of the tip, merged: its piece to the tip lost
+    ("body", 13011, 12),    # guides 3-4 delta short of a tip; a ring drawn on 6 delta past its seam
+    ("tube", 15002, 13),    # a ruling drawn in two strokes overlapping head to head 2.3 delta on a ring
+    ("box", 15011, 5),      # an edge drawn so: two nodes 1.05 delta apart, a face left out
+    ("grid", 15008, 8),     # a line's end 2.03 delta from the border, its last delta swerving 26 deg off
+    ("grid", 13002, 4),     # (kept) a short stroke joining two halves of a border: merged, not a tail
+    ("body", 13007, 20),    # (kept) a ring run on past its seam over a guide: no loop back to the seam node
+])
+def test_rough_sketches_drawn_loosely_at_joints_make_every_loop(kind, seed, was):
+    """Rough objects (the project's generator, a looser hand) whose curves meet loosely: each
+    comment says how; `was` is how many loops the network had before the rules that read these
+    joints (core.stroke_joins: a ring's seam beside a stroke, meeting ends up to MEET_REACH, rings
+    drawn on over their seam, extension by the last EXTEND_BACK delta; core.stroke_graph: tails
+    of over-sketches, head-to-head overlaps, loops back to a node at a stroke's end). Every loop
+    of the object is found."""
+    from ProgSurf.core.objects import stroke_network
+
+    sk = make_object(kind, seed, rough=True)
+    _, choice, _ = stroke_network(sk.strokes)
+    assert len(choice.cycles) == sk.surfaces

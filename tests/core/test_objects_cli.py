@@ -285,6 +285,20 @@ def test_a_sketch_whose_loops_face_every_way_builds_every_surface(tmp_path):
     assert proc.returncode == 2 and "gap" in proc.stderr
 
 
+@pytest.mark.skipif(not SMALL.is_file(), reason=f"shared sketch {SMALL} not found")
+def test_a_loop_drawn_on_over_its_own_start_keeps_its_surfaces():
+    """04-1-1's stroke 20 is a loop whose last 56 mm (15.2 % of it) run back over its start, its
+    seam beside stroke 11: it closes at the node there, and that last piece, a loop back to the
+    same node, is dropped (stroke_graph._along_itself; kept, the shade's rear lost a loop: 7 of 8)."""
+    from ProgSurf.core.objects import stroke_network, steady_tolerances
+    from ProgSurf.io import read_strokes
+
+    strokes = read_strokes(SMALL)
+    graph, choice, _ = stroke_network(strokes, steady_tolerances(strokes))
+    assert len(choice.cycles) == 8
+    assert not [e for e in graph.edges if e.node0 == e.node1 and e.stroke == 20]
+
+
 NACELLE = DATA / "tigl" / "full_nacelle" / "full_nacelle.clean.xyz"
 
 

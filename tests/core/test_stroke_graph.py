@@ -692,3 +692,42 @@ def test_a_stroke_drawn_over_from_both_ends_says_nothing_of_it_is_left():
     g = build_stroke_graph([s, line([-30, 0.3, 0], [13, 0.3, 0], 100), line([7, -0.3, 0], [50, -0.3, 0], 100)], 1.0)
     assert not [e for e in g.edges if e.stroke == 0]
     assert "nothing of it is left" in g.notes[0]
+
+
+def test_a_stroke_drawn_over_another_and_on_past_its_end_keeps_what_runs_on():
+    """B drawn over A (x 20-100 of A's 0-100, 0.6 delta apart) and on to x 110: within delta of A
+    along 89 % of it (an over-sketch by cover alone), but its last 10 delta carry the curve on
+    past A's end, longer than a hook. Not merged (the piece was lost, and a rung across it at x 105
+    touched nothing): A is trimmed where B takes over, and the rung crosses B. A short stroke
+    whose piece beyond A lies along a third stroke C (joining two halves of a border) is no such
+    tail: merged."""
+    a = line([0, 0.3, 0], [100, 0.3, 0], 100)
+    b = line([20, -0.3, 0], [110, -0.3, 0], 90)
+    rung = line([105, -20, 0], [105, 20, 0], 40)
+    g = build_stroke_graph([a, b, rung], 1.0)
+    assert 1 not in g.merged
+    assert len(_nodes_of(g, [1, 2])) == 1
+    assert max(e.points[:, 0].max() for e in g.edges if e.stroke in (0, 1)) > 109.0
+    c = line([98, -0.3, 0], [200, -0.3, 0], 100)
+    joint = line([20, 0, 0], [105, 0, 0], 85)
+    g = build_stroke_graph([a, c, joint], 1.0)
+    assert g.merged.get(2) == 0
+
+
+def test_rulings_stopped_up_to_five_delta_short_of_a_tip_meet_there():
+    """A cone's six rulings, two stopped 4 and 4.5 delta short of its tip, the rest within 2
+    delta of it: their lines pass within delta of the tip, so all six meet there, one node
+    (stroke_joins.MEET_REACH; with 3 delta the two far ones were left out and made two more
+    nodes below the tip, 20 mm down)."""
+    delta = 5.0
+    tip = np.array([0.0, 0.0, 100.0])
+    th = np.linspace(0, 2 * np.pi, 200)
+    rulings = []
+    for k, over in enumerate([-4.5, 1.5, -1.0, -4.0, -2.0, 1.0]):
+        a = 2 * np.pi * k / 6 + 0.3
+        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
+    g = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, delta)
+    near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 6 * delta]
+    assert len(near) == 1 and np.linalg.norm(near[0].point - tip) < 0.5 * delta
+    assert len(find_cycles(g).cycles) == 6 and not [n for n in g.nodes if n.kind == "end"]
