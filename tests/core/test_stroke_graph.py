@@ -410,6 +410,21 @@ def test_a_tube_whose_rims_are_drawn_short_of_their_seams_closes(share):
     assert len([n for n in c.nodes if n.kind == "end"]) == 2 and "ring closed" not in c.notes.get(0, "")
 
 
+CONE_TIP = np.array([0.0, 0.0, 100.0])
+
+
+def _cone(overs, delta):
+    """A cone's base ring (radius 50) and six rulings from it to CONE_TIP (100 above), each
+    ending `over` delta past the tip (negative: short of it)."""
+    th = np.linspace(0, 2 * np.pi, 200)
+    rulings = []
+    for k, over in enumerate(overs):
+        a = 2 * np.pi * k / 6 + 0.3
+        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+        rulings.append(line(foot, CONE_TIP + over * delta * (CONE_TIP - foot) / np.linalg.norm(CONE_TIP - foot), 40))
+    return [np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings
+
+
 def test_ends_that_stop_short_of_or_run_over_one_point_meet_there():
     """A cone (base ring radius 50, tip 100 above it) whose six rulings end 1-2.5 delta short of
     or past the tip (delta 5), and a cube whose three edges at one corner each stop 2 delta short
@@ -418,14 +433,8 @@ def test_ends_that_stop_short_of_or_run_over_one_point_meet_there():
     and 3 loops, 2 nodes at the corner and 4 loops). Three strokes whose ends lie as close but
     whose lines pass far apart do not meet."""
     delta = 5.0
-    tip = np.array([0.0, 0.0, 100.0])
-    th = np.linspace(0, 2 * np.pi, 200)
-    rulings = []
-    for k, over in enumerate([-2.5, 1.5, -1.0, 2.5, -2.0, 1.0]):
-        a = 2 * np.pi * k / 6 + 0.3
-        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
-        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
-    g = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, delta)
+    tip = CONE_TIP
+    g = build_stroke_graph(_cone([-2.5, 1.5, -1.0, 2.5, -2.0, 1.0], delta), delta)
     near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 4 * delta]
     assert len(near) == 1 and np.linalg.norm(near[0].point - tip) < 0.5 * delta
     assert len(find_cycles(g).cycles) == 6
@@ -720,14 +729,8 @@ def test_rulings_stopped_up_to_five_delta_short_of_a_tip_meet_there():
     (stroke_joins.MEET_REACH; with 3 delta the two far ones were left out and made two more
     nodes below the tip, 20 mm down)."""
     delta = 5.0
-    tip = np.array([0.0, 0.0, 100.0])
-    th = np.linspace(0, 2 * np.pi, 200)
-    rulings = []
-    for k, over in enumerate([-4.5, 1.5, -1.0, -4.0, -2.0, 1.0]):
-        a = 2 * np.pi * k / 6 + 0.3
-        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
-        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
-    g = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, delta)
+    tip = CONE_TIP
+    g = build_stroke_graph(_cone([-4.5, 1.5, -1.0, -4.0, -2.0, 1.0], delta), delta)
     near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 6 * delta]
     assert len(near) == 1 and np.linalg.norm(near[0].point - tip) < 0.5 * delta
     assert len(find_cycles(g).cycles) == 6 and not [n for n in g.nodes if n.kind == "end"]
