@@ -189,11 +189,11 @@ def _tail(stroke: FloatArray, close: np.ndarray, delta: float, others: list) -> 
     return False
 
 
-def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, trims: dict) -> None:
-    """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring)."""
-    cums = [cumulative_length(s) for s in strokes]
-    boxes = Boxes(strokes)
-    tips = np.array([[i, *strokes[i][k]] for i in live for k in (0, -1)]).reshape(-1, 4)
+def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, trims: dict, cums: list,
+               boxes: Boxes) -> None:
+    """Crossings, near-crossings and runs along another stroke, pair by pair (module docstring);
+    cums: the strokes' cumulative lengths, boxes: their Boxes."""
+    tips = np.array([[i, *strokes[i][k]] for i in live for k in (0, -1)]).reshape(-1, 4)    # (stroke, x, y, z)
     for x, i in enumerate(live):
         near = boxes.close_to(boxes.lo[i], boxes.hi[i], delta)
         for j in live[x + 1:]:
@@ -217,7 +217,7 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
                         and _side_by_side(a, b, cums[i], cums[j], sa, sb, float(dist[r, c]), delta)):
                     continue
                 if (run and not apex_meeting(a, b, cums[i], cums[j], rows, cols, delta)) or _head_to_head(
-                        a, b, cums[i], cums[j], rows, cols, delta, tips[(tips[:, 0] != i) & (tips[:, 0] != j), 1:]):
+                        a, b, cums[i], cums[j], rows, cols, delta, tips, (i, j)):
                     # a run along the other stroke: trim the stroke whose end lies in the run
                     _run_trim(i, j, rows, cols, s, t, cums, trims, cands, strokes, delta)
                     continue
@@ -227,19 +227,21 @@ def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, t
 
 
 def _head_to_head(a: FloatArray, b: FloatArray, cum_a: FloatArray, cum_b: FloatArray, rows: np.ndarray,
-                  cols: np.ndarray, delta: float, other_ends: FloatArray) -> bool:
+                  cols: np.ndarray, delta: float, tips: FloatArray, pair: tuple) -> bool:
     """Whether a close component of two strokes (rows of a, cols of b) holds one end of each and the
     strokes leave those ends within HEAD_DEG of opposite ways: a curve drawn in two strokes, their
     ends overlapping by less than a run (_is_run). Such an overlap is trimmed as a run is
     (_run_trim): one joint. As a crossing, each end joined the other stroke apart, up to 2.3
     delta, and where a third curve crossed there the joint was three nodes and a sliver (objects
-    benchmark tube_15002r). Not where other strokes end too (other_ends (k, 3) within 2 EXTEND x
-    delta of the overlap's ends): the guides of a body meet at its tip, two from opposite sides
-    overlapping so (trimmed, the tip's meeting lost 5 of 20 loops, body_1003r)."""
+    benchmark tube_15002r). Not where other strokes end too (tips: (k, 4) rows of stroke and end
+    point, those of strokes not in `pair` within 2 EXTEND x delta of the overlap's ends): the guides
+    of a body meet at its tip, two from opposite sides overlapping so (trimmed, the tip's meeting
+    lost 5 of 20 loops, body_1003r)."""
     ea, eb = ends_in(cum_a, rows), ends_in(cum_b, cols)
     if sum(ea) != 1 or sum(eb) != 1:
         return False
     here = 0.5 * ((a[0] if ea[0] else a[-1]) + (b[0] if eb[0] else b[-1]))
+    other_ends = tips[(tips[:, 0] != pair[0]) & (tips[:, 0] != pair[1]), 1:]
     if len(other_ends) and np.min(np.linalg.norm(other_ends - here, axis=1)) <= 2 * EXTEND * delta:
         return False
     da = end_direction(a, cum_a, 0.0 if ea[0] else float(cum_a[-1]), delta)
@@ -346,7 +348,9 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
 
     cands = NodeCandidates()
     trims: dict = {}
-    _crossings(arrays, live, delta, cands, trims)
+    cums = [cumulative_length(a) for a in arrays]
+    boxes = Boxes(arrays)
+    _crossings(arrays, live, delta, cands, trims, cums, boxes)
     # a trimmed stroke keeps only the part out of its run along the other stroke
     keep_range = {i: [0.0, lengths[i]] for i in live}
     overlaps: dict = {}
@@ -361,12 +365,13 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             notes.setdefault(i, f"over-sketched run along another stroke trimmed ({'start' if at_start else 'end'})")
         if keep_range[i][1] <= keep_range[i][0]:
             notes[i] = "drawn over other strokes from both ends, the runs overlapping: nothing of it is left"
-    seams = ring_overlaps(arrays, live, delta, cands, keep_range)
+    seams = ring_overlaps(arrays, live, delta, cands, keep_range, cums, boxes)
     for i, at_start in seams.items():
         overlaps.setdefault(i, set()).add(at_start)
         notes.setdefault(i, f"ring drawn on over its seam: the overlap at its {'start' if at_start else 'end'} cut away")
     cands = _off_cut_away(cands, keep_range, overlaps, delta)
-    end_joins(arrays, live, delta, cands, keep_range, frozenset((i, not at_start) for i, at_start in seams.items()))
+    end_joins(arrays, live, delta, cands, keep_range, cums, boxes,
+              frozenset((i, not at_start) for i, at_start in seams.items()))
 
     labels = merge_candidates(cands, arrays, delta)
     groups: dict = {}
@@ -391,7 +396,7 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     out_edges: list = []
     extra_points: list = []
     for i in live:
-        cum = cumulative_length(arrays[i])
+        cum = cums[i]
         lo, hi = keep_range[i]
         marks = sorted(along[i], key=lambda x: x[1])
         # merge marks of different nodes that fall at (nearly) the same place: the first wins

@@ -222,7 +222,8 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
     return done
 
 
-def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates, keep: dict) -> dict:
+def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates, keep: dict, cums: dict,
+                  boxes: Boxes) -> dict:
     """Rings drawn round with an overlap at their seam: a stroke whose end, carried on along its
     own direction (_extension), meets the stroke itself within HOOK_FRACTION of its length from
     its other end, that other end lying behind it (the two ends ran past each other), further
@@ -233,17 +234,17 @@ def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates
     ring there a little way off that crossing: two nodes on that curve, a sliver, and the ring's
     loops lost (objects benchmark body_13011r). Returns {stroke: True when its start was cut
     away, False when its end}: the trims' overlaps, for core.stroke_graph._off_cut_away. The
-    seam's own end joins nothing else (end_joins skips it: done)."""
-    boxes = Boxes(strokes)
+    seam's own end joins nothing else (end_joins skips it: done). cums: stroke -> cumulative
+    lengths, boxes: the strokes' Boxes (both as end_joins takes them)."""
     cut: dict = {}
     for i in live:
-        cum = cumulative_length(strokes[i])
+        cum = cums[i]
         total = float(cum[-1])
         if total <= 4 * EXTEND * delta or np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= PROXIMITY * delta:
             continue
         for s_end in (0.0, total):
             direction = end_direction(strokes[i], cum, s_end, delta)
-            hit = _extension(strokes, {i: cum}, i, s_end, direction, [i], boxes, delta, keep)
+            hit = _extension(strokes, cums, i, s_end, direction, [i], boxes, delta, keep)
             if hit is None:
                 continue
             s_seam = hit[2]
@@ -252,9 +253,7 @@ def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates
             here = strokes[i][0] if s_end == 0.0 else strokes[i][-1]
             if overlap > HOOK_FRACTION * total or float(direction @ (other - here)) >= 0.0:
                 continue    # (the other end short of this one: a gap, which end_joins closes)
-            near = boxes.close_to(here, here, PROXIMITY * delta)
-            if any(j != i and near[j] and _nearest_kept(here, strokes[j], cumulative_length(strokes[j]), keep[j])[0]
-                   <= PROXIMITY * delta for j in live):
+            if _nearest_join(here, i, strokes, cums, live, boxes, keep, PROXIMITY * delta) is not None:
                 continue    # (an end beside another stroke joins it: end_joins; the seam is there)
             cands.add(point_at_length(strokes[i], s_seam, cum), [(i, s_end), (i, s_seam)])
             if s_end == 0.0:
@@ -266,8 +265,8 @@ def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates
     return cut
 
 
-def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, keep: dict,
-              done: frozenset = frozenset()) -> None:
+def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, keep: dict, cums: dict,
+              boxes: Boxes, done: frozenset = frozenset()) -> None:
     """T-nodes and corners: each stroke end within PROXIMITY x delta of another stroke (or of its
     own other end, for a closed stroke) is joined to its nearest point there; ends that meet at one
     point (_meeting_ends) are joined there first. keep: stroke -> [lo, hi], the arc lengths of the
@@ -275,10 +274,9 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
     along lies there too), and an end it held joins nothing either (held at the cut, such a join
     tied the stroke to a place up to 300 mm beyond it). done: {(stroke, True for its start)}, the
     ends joined already (a ring's seam, ring_overlaps). A closed stroke whose end lies beside
-    another stroke closes at that join: its other end joins there too."""
+    another stroke closes at that join: its other end joins there too. cums: stroke -> cumulative
+    lengths (of every live stroke), boxes: the strokes' Boxes."""
     reach = PROXIMITY * delta
-    boxes = Boxes(strokes)
-    cums = {i: cumulative_length(strokes[i]) for i in live}
     met = _meeting_ends(strokes, cums, live, delta, cands, boxes)
     free = []
     for i in live:
@@ -291,14 +289,7 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
             cut_away = keep[i][0] > 1e-9 * total if s_end == 0.0 else keep[i][1] < total * (1 - 1e-9)
             if cut_away:
                 continue    # a trim cut this end away; the trim joined the stroke where it cut it
-            best = None
-            near = boxes.close_to(p, p, reach)
-            for j in live:
-                if j == i or not near[j]:
-                    continue
-                d, sj = _nearest_kept(p, strokes[j], cums[j], keep[j])
-                if d <= reach and (best is None or d < best[0]):
-                    best = (d, j, sj)
+            best = _nearest_join(p, i, strokes, cums, live, boxes, keep, reach)
             if best is None and not closes:
                 direction = end_direction(strokes[i], cums[i], s_end, delta)
                 best = _extension(strokes, cums, i, s_end, direction, live, boxes, delta, keep)
@@ -334,6 +325,21 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
             else:
                 cands.add(0.5 * (strokes[i][0] + strokes[i][-1]), [(i, 0.0), (i, total)])
     _corner_gaps(free, delta, cands)
+
+
+def _nearest_join(p: FloatArray, i: int, strokes: list, cums: dict, live: list, boxes: Boxes, keep: dict,
+                  reach: float) -> tuple | None:
+    """(distance, stroke j, arc length on j) of the point nearest p (3,) on the kept part of any live
+    stroke but i within reach, or None (an end of stroke i beside another stroke)."""
+    best = None
+    near = boxes.close_to(p, p, reach)
+    for j in live:
+        if j == i or not near[j]:
+            continue
+        d, sj = _nearest_kept(p, strokes[j], cums[j], keep[j])
+        if d <= reach and (best is None or d < best[0]):
+            best = (d, j, sj)
+    return best
 
 
 def _nearest_kept(p: FloatArray, stroke: FloatArray, cum: FloatArray, kept: list) -> tuple[float, float]:
