@@ -313,13 +313,13 @@ def _run_trim(i: int, j: int, rows, cols, s, t, cums, trims: dict, cands: NodeCa
             cands.add(0.5 * (p + point_at_length(strokes[other], s_other[0], cums[other])),
                       [(me, keep_from), (other, s_other[0])])
             return
-    # a run in the middle of both: they touch along it; one node at its middle
-    k = len(rows) // 2
-    r, c = rows[k], cols[k]
-    sa = cums[i][r] + s[r, c] * (cums[i][r + 1] - cums[i][r])
-    sb = cums[j][c] + t[r, c] * (cums[j][c + 1] - cums[j][c])
-    cands.add(0.5 * (point_at_length(strokes[i], sa, cums[i]) + point_at_length(strokes[j], sb, cums[j])),
-              [(i, sa), (j, sb)])
+    # a run in the middle of both: they touch along it; one node at its middle (by arc length on
+    # stroke i: the middle pair of the component's list moved 17 mm with the strokes' directions,
+    # fuzz benchmark 02-0-2)
+    sa = 0.5 * (cums[i][rows.min()] + cums[i][rows.max() + 1])
+    pa = point_at_length(strokes[i], sa, cums[i])
+    _, sb = nearest_on(pa[None], strokes[j], cums[j])
+    cands.add(0.5 * (pa + point_at_length(strokes[j], sb[0], cums[j])), [(i, sa), (j, float(sb[0]))])
 
 
 def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> StrokeGraph:

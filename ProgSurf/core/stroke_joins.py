@@ -164,7 +164,12 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
                                past / min(HOOK * delta, HOOK_FRACTION * float(cums[i][-1]))))
             if max(off) <= 1.0:
                 break
-            ks = [k for k, o in zip(ks, off) if o < max(off)]
+            # (the furthest off goes; of ends as far off to rounding, that of the last stroke: a
+            # sketch drawn mirrored has its halves' ends tie, and which went varied with the
+            # strokes' directions and the sketch's placement, fuzz benchmark 02-0-2 rigid)
+            top = max(off)
+            worst = max((k for k, o in zip(ks, off) if o >= top * (1.0 - 1e-9)), key=lambda k: ends[k][0])
+            ks = [k for k in ks if k != worst]
             x = None
         if x is None or len(ks) < MEET_ENDS:
             continue
@@ -466,5 +471,6 @@ def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | 
 def stroke_piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray,
                  p1: FloatArray) -> FloatArray:
     """The stroke between arc lengths s0 < s1, its ends replaced by the node points p0, p1."""
-    inner = stroke[(cum > s0) & (cum < s1)]
+    tol = 1e-9 * max(float(cum[-1]), 1.0)
+    inner = stroke[(cum > s0 + tol) & (cum < s1 - tol)]
     return np.vstack([p0, inner, p1])

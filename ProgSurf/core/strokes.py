@@ -74,7 +74,10 @@ def chord_length(points: npt.ArrayLike) -> float:
     pts = np.asarray(points, dtype=float)
     if pts.shape[0] < 2:
         return 0.0
-    return float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+    # (summed as cumulative_length sums, so that a stroke's length is the last of its cumulative
+    # lengths to the bit: a mark at one end, s == length, then cuts the piece beside it the same
+    # whichever way the sketch is turned; np.sum's pairwise rounding differed in the last bits)
+    return float(np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))[-1])
 
 
 def cumulative_length(points: npt.ArrayLike) -> FloatArray:

@@ -734,3 +734,59 @@ def test_rulings_stopped_up_to_five_delta_short_of_a_tip_meet_there():
     near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 6 * delta]
     assert len(near) == 1 and np.linalg.norm(near[0].point - tip) < 0.5 * delta
     assert len(find_cycles(g).cycles) == 6 and not [n for n in g.nodes if n.kind == "end"]
+
+
+def _run_pair(reverse_a: bool, reverse_b: bool) -> list:
+    """A straight stroke 200 long on x and a curve that comes down to it steeply, runs along it 3
+    apart from x = 60 to x = 140 and leaves it gently: they touch along a run in the middle of
+    both (delta 10)."""
+    x = np.linspace(0.0, 200.0, 201)
+    a = np.c_[x, np.zeros_like(x), np.zeros_like(x)]
+    t = np.linspace(0.0, 1.0, 301)
+    bx = 20.0 + 180.0 * t
+    height = np.where(bx < 60.0, 3.0 + 0.08 * (60.0 - bx) ** 2, np.where(bx > 140.0, 3.0 + 0.6 * (bx - 140.0), 3.0))
+    b = np.c_[bx, height, np.zeros_like(bx)]
+    return [a[::-1] if reverse_a else a, b[::-1] if reverse_b else b]
+
+
+@pytest.mark.parametrize("reverse_a,reverse_b", [(False, False), (True, False), (False, True), (True, True)])
+def test_strokes_touching_along_a_run_meet_at_its_middle_whichever_way_they_run(reverse_a, reverse_b):
+    """Two strokes that touch along a run in the middle of both meet at one node, at the run's
+    middle whichever way each was drawn (the middle pair of the close segments' list moved 17 mm
+    with the strokes' directions on the VR sketch 02-0-2: a rigidly moved sketch gave another
+    network)."""
+    strokes = _run_pair(reverse_a, reverse_b)
+    g = build_stroke_graph(strokes, 10.0)
+    inner = [n for n in g.nodes if n.kind != "end"]
+    assert len(inner) == 1
+    assert abs(inner[0].point[0] - 100.0) <= 2.0, inner[0].point
+
+
+def _mirrored_meeting(flip, seed):
+    """Four strokes 300 long whose ends come together in mirror pairs, as two of the VR sketch
+    02-0-2 drawn in mirror mode do (delta 13.77): two end 13.3 either side of the mirror leaning
+    out, two end 17.7 either side coming across; a 1e-9 jitter (seed) stands for the rounding of
+    another placement. flip: the strokes drawn the other way."""
+    rng = np.random.default_rng(seed)
+    strokes = []
+    for side in (-1.0, 1.0):
+        for end, way in (((13.3, -2.1, -9.0), (0.681, 0.369, 0.633)), ((17.7, 1.8, 9.6), (-0.85, 0.527, -0.012))):
+            e = np.array([side * end[0], end[1], end[2]])
+            d = np.array([side * way[0], way[1], way[2]])
+            strokes.append(e - np.linspace(300.0, 0.0, 80)[:, None] * d)
+    strokes = [s + rng.normal(scale=1e-9, size=s.shape) for s in strokes]
+    return [s[::-1] if k in flip else s for k, s in enumerate(strokes)]
+
+
+@pytest.mark.parametrize("flip", [(), (0,), (1, 3), (0, 1, 2, 3)])
+def test_a_mirrored_meeting_of_ends_is_the_same_whichever_way_its_strokes_run(flip):
+    """Four strokes whose ends come together in mirror pairs (a VR sketch drawn in mirror mode):
+    the two ends furthest off the meeting tie to rounding. Which of them was left out varied with
+    the strokes' directions and the sketch's placement (02-0-2 rigidly moved: another node and
+    another loop); the same one goes now, so the network is the same whichever way they run."""
+    reference = build_stroke_graph(_mirrored_meeting((), 0), 13.77)
+    pts = sorted(map(tuple, np.round([n.point for n in reference.nodes], 3)))
+    for seed in range(6):
+        moved = build_stroke_graph(_mirrored_meeting(flip, seed), 13.77)
+        assert sorted(map(tuple, np.round([n.point for n in moved.nodes], 3))) == pts
+        assert len(moved.edges) == len(reference.edges)
