@@ -247,6 +247,7 @@ def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates
         total = float(cum[-1])
         if total <= 4 * EXTEND * delta or np.linalg.norm(strokes[i][0] - strokes[i][-1]) <= PROXIMITY * delta:
             continue
+        seams = []      # (overlap, end, seam) of each end that qualifies
         for s_end in (0.0, total):
             direction = end_direction(strokes[i], cum, s_end, delta)
             hit = _extension(strokes, cums, i, s_end, direction, [i], boxes, delta, keep)
@@ -260,13 +261,19 @@ def ring_overlaps(strokes: list, live: list, delta: float, cands: NodeCandidates
                 continue    # (the other end short of this one: a gap, which end_joins closes)
             if _nearest_join(here, i, strokes, cums, live, boxes, keep, PROXIMITY * delta) is not None:
                 continue    # (an end beside another stroke joins it: end_joins; the seam is there)
-            cands.add(point_at_length(strokes[i], s_seam, cum), [(i, s_end), (i, s_seam)])
-            if s_end == 0.0:
-                keep[i][1] = min(keep[i][1], s_seam)
-            else:
-                keep[i][0] = max(keep[i][0], s_seam)
-            cut[i] = s_end != 0.0
-            break
+            seams.append((overlap, s_end, s_seam))
+        if not seams:
+            continue
+        # both ends may reach the stroke past the other: the shorter overlap is cut (the end tried
+        # first was, and which that was followed the way the ring was drawn: objects benchmark
+        # tube_1002r drawn the other way round had its seam 20 mm away, and a node more)
+        _, s_end, s_seam = min(seams)
+        cands.add(point_at_length(strokes[i], s_seam, cum), [(i, s_end), (i, s_seam)])
+        if s_end == 0.0:
+            keep[i][1] = min(keep[i][1], s_seam)
+        else:
+            keep[i][0] = max(keep[i][0], s_seam)
+        cut[i] = s_end != 0.0
     return cut
 
 
