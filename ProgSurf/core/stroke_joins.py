@@ -469,9 +469,11 @@ def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | 
         if ok.any():
             # the place closest to the end's line of sight, then its foot on the stroke
             k = int(np.flatnonzero(ok)[np.argmin(aside[ok] / along[ok])])
-            _, foot = nearest_on((p + along[k] * d)[None], strokes[j], cums[j])
+            # (on the kept part: a ring's lap beside the overlap cut away from it held the foot
+            # there, and the join was dropped with the piece, objects benchmark tube_3011r)
+            _, foot = _nearest_kept(p + along[k] * d, strokes[j], cums[j], keep[j])
             if best is None or along[k] < best[0]:
-                best = (float(along[k]), j, float(foot[0]))
+                best = (float(along[k]), j, foot)
     return best
 
 

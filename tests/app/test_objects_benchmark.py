@@ -105,6 +105,7 @@ def test_rough_bodies_whose_guides_run_over_each_other_at_a_tip_make_every_loop(
     ("grid", 15008, 8),     # a line's end 2.03 delta from the border, its last delta swerving 26 deg off
     ("grid", 13002, 4),     # (kept) a short stroke joining two halves of a border: merged, not a tail
     ("body", 13007, 20),    # (kept) a ring run on past its seam over a guide: no loop back to the seam node
+    ("tube", 3011, 6),      # (kept) a ruling's end extended to a rim's lap beside the overlap cut away
 ])
 def test_rough_sketches_drawn_loosely_at_joints_make_every_loop(kind, seed, was):
     """Rough objects (the project's generator, a looser hand) whose curves meet loosely: each
