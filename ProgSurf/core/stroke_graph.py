@@ -512,12 +512,15 @@ def _passes_through(n: int, edges: list) -> bool:
 
 def _merge_parallel(edges: list, delta: float) -> list:
     """Edges joining the same two nodes and lying within delta of each other (over-sketched runs
-    between the same nodes) are one: the first drawn is kept."""
-    out: list = []
-    for e in edges:
-        n0, n1, pts = e[0], e[1], e[2]
+    between the same nodes) are one: that of the first stroke is kept, of one stroke's the
+    longest (a stroke drawn there and back between two nodes: the piece first along it was kept,
+    and which that was followed the way it was drawn, 07-2-2's stroke 22). Returned in their
+    order."""
+    kept: list = []
+    for k in sorted(range(len(edges)), key=lambda k: (edges[k][3], -chord_length(edges[k][2]))):
+        n0, n1, pts = edges[k][0], edges[k][1], edges[k][2]
         dup = False
-        for f in out:
+        for f in (edges[x] for x in kept):
             if {f[0], f[1]} != {n0, n1} or n0 == n1:
                 continue
             d, _ = nearest_on(pts, f[2])
@@ -525,5 +528,5 @@ def _merge_parallel(edges: list, delta: float) -> list:
                 dup = True
                 break
         if not dup:
-            out.append(e)
-    return out
+            kept.append(k)
+    return [edges[k] for k in sorted(kept)]

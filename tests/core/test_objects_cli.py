@@ -323,3 +323,28 @@ def test_the_nacelle_inlet_lip_is_built():
     assert len(inner["boundary_of"]) == 4 and inner["interior_to"] == []
     shell, = out.shells
     assert shell["valid"] and shell["faces"] == 16 and not shell["closed"] and shell["seam_gap_max_mm"] <= 1e-6
+
+
+VR_0722 = DATA / "cassie" / "07-2-2.xyz"
+
+
+@pytest.mark.skipif(not VR_0722.is_file(), reason=f"shared sketch {VR_0722} not found")
+def test_a_stroke_drawn_there_and_back_keeps_one_piece_whichever_way_it_runs():
+    """07-2-2's stroke 22 runs from one node to another and back, twice (two pairs of pieces
+    within delta of each other between the same nodes): one piece of each pair is kept, the
+    longer, whichever way the stroke was drawn (the first along it was kept: drawn the other way,
+    another piece, another node normal, and 35 or 36 loops)."""
+    from ProgSurf.core.objects import stroke_network
+    from ProgSurf.io import read_strokes
+
+    strokes = read_strokes(VR_0722)
+    turned = [s[::-1] if k == 22 else s for k, s in enumerate(strokes)]
+    g0, c0, _ = stroke_network(strokes)
+    g1, c1, _ = stroke_network(turned)
+
+    def pieces(g):
+        return sorted((tuple(sorted((tuple(np.round(g.nodes[e.node0].point, 3)), tuple(np.round(g.nodes[e.node1].point, 3))))),
+                       round(e.length, 3)) for e in g.edges if e.stroke == 22)
+
+    assert pieces(g0) == pieces(g1)
+    assert len(c0.cycles) == len(c1.cycles)
