@@ -121,17 +121,18 @@ def test_rough_sketches_drawn_loosely_at_joints_make_every_loop(kind, seed, was)
     assert len(choice.cycles) == sk.surfaces
 
 
-@pytest.mark.parametrize("kind,seed,reversed_", [("tube", 1002, (1, 3, 4, 6, 7)), ("box", 1000, None),
+@pytest.mark.parametrize("kind,seed,reversed_", [("tube", 1002, (1, 3, 4, 6, 7)), ("tube", 1002, None),
+                                                  ("tube", 1005, None), ("box", 1000, None),
                                                   ("body", 1001, None), ("grid", 1003, None)])
 def test_a_rough_object_makes_one_network_whichever_way_its_strokes_run_and_wherever_it_lies(kind, seed, reversed_):
     """The stroke network of a rough object, its strokes drawn the other way at random and the
     sketch turned, scaled and moved: the same nodes (moved back, within 0.1 % of its size) and
     edges. tube_1002r's rim, drawn on past its seam at both ends, had the overlap cut from the end
     looked at first: drawn the other way round, its seam lay 20 mm away and the network had a node
-    more (stroke_joins.ring_overlaps cuts the shorter overlap now). reversed_: the strokes drawn
-    the other way (None: at random). Not yet: a ring whose two ends each reach the other's very
-    end (two overlaps of 0) has its seam at one of them, which one following its direction
-    (tube_1002r with stroke 0 reversed: 6.5 mm)."""
+    more (stroke_joins.ring_overlaps cuts the shorter overlap now). A ring closed across a gap at
+    its seam had its seam node at its start, one end of the gap or the other as it ran (tube_1002r
+    with stroke 0 reversed: 6.5 mm; tube_1005r: 2.7 mm); it lies halfway along the bridge now.
+    reversed_: the strokes drawn the other way (None: at random)."""
     from ProgSurf.core.objects import stroke_network
 
     strokes = make_object(kind, seed, rough=True).strokes
