@@ -334,14 +334,14 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
         bridge = ring_bridge(a, delta) if len(a) >= 3 else None
         if bridge is not None:
             bridged[i] = f"ring closed across the gap of {np.linalg.norm(a[0] - a[-1]):.3g} mm at its seam"
-            # its seam halfway along the bridge, which is the same arc whichever way the ring ran
-            # (at its start, the seam node lay at one end of the gap or the other as it was drawn:
-            # tube_1002r 6.5 mm)
-            # (bridge: its arc at t = 1/n .. 1, bridge[-1] the start a[0]; t = 0.5 is a point of
-            # it for even n, halfway between two for odd n)
+            # its seam halfway along the bridge, the same arc whichever way the ring ran (at its
+            # start, the seam node lay at one end of the gap or the other as it was drawn:
+            # tube_1002r 6.5 mm). The bridge samples its arc at t = 1/n .. 1 (its last point is
+            # a[0]): t = 0.5 is a sample for even n, halfway between two for odd n.
             h, odd = len(bridge) // 2, len(bridge) % 2 == 1
             mid = 0.5 * (bridge[h - 1] + bridge[h]) if odd else bridge[h - 1]
-            arrays[i] = np.vstack([mid, bridge[h:-1], a, bridge[:h - 1] if not odd else bridge[:h], mid])
+            before = bridge[:h] if odd else bridge[:h - 1]
+            arrays[i] = np.vstack([mid, bridge[h:-1], a, before, mid])
     lengths = [chord_length(a) for a in arrays]
     short = {i for i, L in enumerate(lengths) if L <= delta}
     for i in short:

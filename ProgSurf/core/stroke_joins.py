@@ -479,7 +479,8 @@ def _extension(strokes: list, cums: dict, i: int, s_end: float, d: FloatArray | 
 
 def stroke_piece(stroke: FloatArray, cum: FloatArray, s0: float, s1: float, p0: FloatArray,
                  p1: FloatArray) -> FloatArray:
-    """The stroke between arc lengths s0 < s1, its ends replaced by the node points p0, p1."""
+    """The stroke between arc lengths s0 < s1, its ends replaced by the node points p0, p1 (a
+    sample within 1e-9 of the stroke's length of s0 or s1 is one of those ends)."""
     tol = 1e-9 * max(float(cum[-1]), 1.0)
     inner = stroke[(cum > s0 + tol) & (cum < s1 - tol)]
     return np.vstack([p0, inner, p1])
