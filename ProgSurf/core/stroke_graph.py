@@ -45,8 +45,8 @@ import numpy.typing as npt
 
 from .stroke_nodes import (NodeCandidates, apex_meeting, components, ends_in, merge_candidates, nearest_on,
                            seam_twins, segment_distances)
-from .stroke_joins import (EXTEND, HOOK, HOOK_FRACTION, PROXIMITY, Boxes, end_direction, end_joins,
-                           ring_bridge, ring_overlaps, stroke_piece)
+from .stroke_joins import (EXTEND, HOOK, HOOK_FRACTION, PROXIMITY, Boxes, bridged_ring, end_direction, end_joins,
+                           ring_overlaps, stroke_piece)
 from .strokes import chord_length, cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -331,18 +331,12 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     notes: dict = {}
     bridged: dict = {}
     for i, a in enumerate(arrays):
-        bridge = ring_bridge(a, delta) if len(a) >= 3 else None
-        if bridge is not None:
+        ring = bridged_ring(a, delta) if len(a) >= 3 else None
+        if ring is not None:
             bridged[i] = f"ring closed across the gap of {np.linalg.norm(a[0] - a[-1]):.3g} mm at its seam"
-            # its seam halfway along the bridge, the same arc whichever way the ring ran (at its
-            # start, the seam node lay at one end of the gap or the other as it was drawn:
-            # tube_1002r 6.5 mm). The bridge samples its arc at t = 1/n .. 1 (its last point is
-            # a[0]): t = 0.5 is a sample for even n, halfway between two for odd n.
-            h, odd = len(bridge) // 2, len(bridge) % 2 == 1
-            mid = 0.5 * (bridge[h - 1] + bridge[h]) if odd else bridge[h - 1]
-            before = bridge[:h] if odd else bridge[:h - 1]
-            arrays[i] = np.vstack([mid, bridge[h:-1], a, before, mid])
-    lengths = [chord_length(a) for a in arrays]
+            arrays[i] = ring
+    cums = [cumulative_length(a) for a in arrays]
+    lengths = [float(c[-1]) for c in cums]
     short = {i for i, L in enumerate(lengths) if L <= delta}
     for i in short:
         notes[i] = f"shorter ({lengths[i]:.3g} mm) than the touching distance {delta:.3g} mm: left out"
@@ -355,7 +349,6 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
 
     cands = NodeCandidates()
     trims: dict = {}
-    cums = [cumulative_length(a) for a in arrays]
     boxes = Boxes(arrays)
     _crossings(arrays, live, delta, cands, trims, cums, boxes)
     # a trimmed stroke keeps only the part out of its run along the other stroke
