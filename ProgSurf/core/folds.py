@@ -131,12 +131,21 @@ def tuck_deg(normals: FloatArray, ok: np.ndarray, points: FloatArray, reach: flo
     turned-over part is a small share of a face moves the mean normal little, so the turn from the
     mean reads about half of it (famK cyl_penta_8: a sliver 128 deg across, 69 deg from its mean,
     upside down against the truth)."""
-    unit, at = normals[ok], points[ok]
-    if len(unit) < 2:
-        return 0.0
-    near = np.linalg.norm(at[:, None, :] - at[None, :, :], axis=-1) < reach
-    cos = np.where(near, unit @ unit.T, 1.0)
-    return float(np.degrees(np.arccos(min(max(float(cos.min()), -1.0), 1.0))))
+    return tucks_deg(normals[None], ok[None], points[None], reach)[0]
+
+
+def tucks_deg(normals: FloatArray, ok: np.ndarray, points: FloatArray, reach: float) -> list[float]:
+    """tuck_deg of several sets at once: normals and points (m, k, 3), ok (m, k). The arithmetic
+    is per pair of samples, so one set gives what it gives alone."""
+    unit = np.asarray(normals, dtype=float)
+    at = np.asarray(points, dtype=float)
+    both = ok[:, :, None] & ok[:, None, :]
+    near = np.linalg.norm(at[:, :, None, :] - at[:, None, :, :], axis=-1) < reach
+    dot = (unit[:, :, None, 0] * unit[:, None, :, 0] + unit[:, :, None, 1] * unit[:, None, :, 1]
+           + unit[:, :, None, 2] * unit[:, None, :, 2])
+    cos = np.where(near & both, dot, 1.0).min(axis=(1, 2), initial=1.0)
+    return [0.0 if n < 2 else float(np.degrees(np.arccos(min(max(float(c), -1.0), 1.0))))
+            for n, c in zip(ok.sum(axis=1), cos)]
 
 
 @lru_cache(maxsize=8)

@@ -26,7 +26,7 @@ import numpy as np
 
 from .boundary import best_fit_plane, merge_to_four, triangle_apex, turn_to_apex
 from .coons import coons_blend, df1, f1, f2
-from .folds import FACE_SAMPLES, FACE_TURN_DEG, TUCK_REACH, _face_samples, tuck_deg, turn_from_mean_deg
+from .folds import FACE_SAMPLES, FACE_TURN_DEG, TUCK_REACH, _face_samples, _turns_from_mean_deg, tucks_deg
 from .strokes import cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -68,26 +68,50 @@ def patch_turn_deg(sides: Sequence[FloatArray], reach: float, samples: int = FAC
     largest angle of its normal from their mean and the largest between two normals closer than
     `reach` (folds.turn_from_mean_deg, folds.tuck_deg), on the fold checks' samples (`samples`
     per side of their grids)."""
-    pts = [np.asarray(s, dtype=float) for s in sides]
-    if len(pts) == 3:
-        tip = pts[1][-1]
-        pts = [pts[0], pts[1], np.stack([tip, tip]), pts[2]]
+    return patch_turns_deg([sides], reach, samples)[0]
+
+
+def patch_turns_deg(choices: Sequence[Sequence[FloatArray]], reach: float,
+                    samples: int = FACE_SAMPLES) -> list[float]:
+    """patch_turn_deg of several choices of sides at once (choose_sides screens hundreds). A side
+    array met again (the same object, at the same place in a choice) is evaluated once. The
+    arithmetic is per patch, so one choice gives what it gives alone."""
+    if not choices:
+        return []
     s, r = _face_samples(samples)
     # each side at the samples' parameters and a step either side (their tangents), in one go
     h = 1e-6
     at_u = np.concatenate([s, np.minimum(s + h, 1.0), np.maximum(s - h, 0.0)])
     at_v = np.concatenate([r, np.minimum(r + h, 1.0), np.maximum(r - h, 0.0)])
-    values = []
-    for side, t in ((pts[0], at_u), (pts[1], at_v), (pts[2][::-1], at_u), (pts[3][::-1], at_v)):
-        prm = _arc_params(side)
-        values.append(np.repeat(side[:1], len(t), axis=0) if prm is None else
-                      np.column_stack([np.interp(t, prm, side[:, k]) for k in range(3)]))
+    seen: dict = {}
+
+    def value(side: FloatArray, place: int) -> FloatArray:
+        key = (id(side), place)
+        if key not in seen:
+            pts = side if place < 2 else side[::-1]
+            t = at_u if place % 2 == 0 else at_v
+            prm = _arc_params(pts)
+            seen[key] = (side, np.repeat(pts[:1], len(t), axis=0) if prm is None else
+                         np.column_stack([np.interp(t, prm, pts[:, k]) for k in range(3)]))
+        return seen[key][1]            # (the side is held with its value: its id stays its own)
+
+    values, corners = [[], [], [], []], []
+    for sides in choices:
+        pts = [np.asarray(x, dtype=float) for x in sides]
+        if len(pts) == 3:
+            tip = pts[1][-1]
+            pts = [pts[0], pts[1], np.stack([tip, tip]), pts[2]]
+        for place in range(4):
+            values[place].append(value(pts[place], place))
+        corners.append([pts[0][0], pts[0][-1], pts[1][-1], pts[3][0]])
     n = len(s)
-    (b0, b1, b2), (r0, r1, r2), (t0, t1, t2), (l0, l1, l2) = ([x[:n], x[n:2 * n], x[2 * n:]] for x in values)
+    (b0, b1, b2), (r0, r1, r2), (t0, t1, t2), (l0, l1, l2) = (
+        [x[:, :n], x[:, n:2 * n], x[:, 2 * n:]] for x in (np.stack(v) for v in values))
     du = (at_u[n:2 * n] - at_u[2 * n:])[:, None]
     dv = (at_v[n:2 * n] - at_v[2 * n:])[:, None]
-    p00, p10, p11, p01 = corners = np.array([pts[0][0], pts[0][-1], pts[1][-1], pts[3][0]])
-    points = coons_blend(s, r, (b0, r0, t0, l0), corners)
+    corner = np.asarray(corners, dtype=float)[:, :, None, :]          # (m, 4, 1, 3)
+    p00, p10, p11, p01 = (corner[:, i] for i in range(4))
+    points = coons_blend(s, r, (b0, r0, t0, l0), np.moveaxis(corner, 1, 0))
     # its partial derivatives, Eq. 1 differentiated (the sides' by their central differences)
     fu1, fu2, fv1, fv2 = f1(s)[:, None], f2(s)[:, None], f1(r)[:, None], f2(r)[:, None]
     du1, dv1 = df1(s)[:, None], df1(r)[:, None]
@@ -96,10 +120,11 @@ def patch_turn_deg(sides: Sequence[FloatArray], reach: float, samples: int = FAC
     pv = (fu1 * (l1 - l2) / dv + fu2 * (r1 - r2) / dv + dv1 * (b0 - t0)
           - fu1 * dv1 * (p00 - p01) - fu2 * dv1 * (p10 - p11))
     cross = np.cross(pu, pv)
-    size = np.linalg.norm(cross, axis=1)
-    ok = size > 1e-12 * max(float(size.max(initial=0.0)), 1e-300)
-    normals = cross / np.where(ok, size, 1.0)[:, None]
-    return max(turn_from_mean_deg(normals, ok), tuck_deg(normals, ok, points, reach))
+    size = np.linalg.norm(cross, axis=-1)
+    ok = size > 1e-12 * np.maximum(size.max(axis=1, initial=0.0), 1e-300)[:, None]
+    normals = cross / np.where(ok, size, 1.0)[..., None]
+    turns = _turns_from_mean_deg(list(zip(normals, ok)))
+    return [max(a, b) for a, b in zip(turns, tucks_deg(normals, ok, points, reach))]
 
 
 def _places(sides: Sequence[FloatArray], middles: Sequence[bool]) -> tuple[FloatArray, list]:
@@ -124,13 +149,16 @@ def _places(sides: Sequence[FloatArray], middles: Sequence[bool]) -> tuple[Float
     return np.asarray(pts), places
 
 
-def _cut(loop: FloatArray, at: Sequence[int]) -> list:
-    """The sides between the corners at loop indices `at` (in loop order, cyclically)."""
+def _cut(loop: FloatArray, at: Sequence[int], made: Optional[dict] = None) -> list:
+    """The sides between the corners at loop indices `at` (in loop order, cyclically); `made`
+    keeps each side made, by its ends, to hand the same array out again."""
     n = len(loop)
+    made = {} if made is None else made
     out = []
     for a, b in zip(at, list(at[1:]) + [at[0]]):
-        b = b if b > a else b + n
-        out.append(loop[np.arange(a, b + 1) % n])
+        if (a, b) not in made:
+            made[a, b] = loop[np.arange(a, (b if b > a else b + n) + 1) % n]
+        out.append(made[a, b])
     return out
 
 
@@ -178,11 +206,15 @@ def choose_sides(sides: Sequence[FloatArray], inside_ends: Optional[FloatArray] 
     # three corners, each the apex in turn (the corner after side 1)
     tries += [(at[k + 1:] + at[:k + 1], 1) for at in itertools.combinations(places, 3) for k in range(3)]
     cost = [TRIANGLE_COST_DEG if apex == 1 else 0.0 for _, apex in tries]
-    coarse = [patch_turn_deg(_cut(loop, at), reach, COARSE_SAMPLES) + c for (at, _), c in zip(tries, cost)]
+    cuts: dict = {}                   # one array per side: patch_turns_deg evaluates each once
+    coarse = [t + c for t, c in zip(patch_turns_deg([_cut(loop, at, cuts) for at, _ in tries], reach,
+                                                    COARSE_SAMPLES), cost)]
     best = (base - GAIN_DEG, None, -1)
-    for k in sorted(range(len(tries)), key=lambda i: (coarse[i], i))[:SHORTLIST]:
+    short = sorted(range(len(tries)), key=lambda i: (coarse[i], i))[:SHORTLIST]
+    fine = patch_turns_deg([_cut(loop, tries[k][0], cuts) for k in short], reach)
+    for k, measured in zip(short, fine):
         at, apex = tries[k]
-        turn = patch_turn_deg(_cut(loop, at), reach) + cost[k]
+        turn = measured + cost[k]
         if turn < best[0] - 1e-9:
             best = (turn, at, apex)
     turn, at, apex = best

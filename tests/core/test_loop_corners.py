@@ -131,3 +131,35 @@ def test_a_lamp_with_moved_corners_stays_sewn():
     out = build_object_and_measure(read_strokes(LAMP))
     assert len(out.shells) <= 6
     assert sum(1 for f in out.folds if f) <= 38
+
+
+def test_corner_choices_measured_together_turn_as_each_does_alone():
+    """choose_sides screens hundreds of corner choices in one batch (patch_turns_deg, tucks_deg):
+    each choice must measure what it measures alone, whatever the others in the batch, and the
+    batch's shared side arrays (the same array at the same place) must not leak between choices."""
+    from ProgSurf.core.folds import tuck_deg, tucks_deg
+    from ProgSurf.core.loop_corners import _cut, _places, patch_turns_deg
+
+    rng = np.random.default_rng(7)
+    # a loop over a saddle, with a dent that makes some choices fold and others not
+    t = np.linspace(0.0, 2 * np.pi, 61)[:-1]
+    ring = np.column_stack([100 * np.cos(t), 70 * np.sin(t), 30 * np.cos(2 * t) + 25 * (np.abs(t - 2) < 0.4)])
+    sides = [ring[k:k + 11] if k + 11 <= 60 else np.vstack([ring[k:], ring[:1]]) for k in range(0, 60, 10)]
+    loop, places = _places(sides, [True] * 6)
+    made: dict = {}
+    choices = [_cut(loop, sorted(rng.choice(places, 4, replace=False)), made) for _ in range(40)]
+    choices += [_cut(loop, sorted(rng.choice(places, 3, replace=False)), made) for _ in range(20)]
+    together = patch_turns_deg(choices, 40.0, 4)
+    alone = [patch_turns_deg([[s.copy() for s in c]], 40.0, 4)[0] for c in choices]
+    assert together == alone
+    assert min(together) < FOLD_DEG < max(together)          # the batch holds both kinds
+    assert patch_turns_deg(choices[::-1], 40.0, 4) == together[::-1]
+    # the tuck measure alone and in a batch, with undefined normals among them
+    normals = rng.normal(size=(5, 30, 3))
+    normals /= np.linalg.norm(normals, axis=-1)[..., None]
+    points = rng.uniform(0.0, 50.0, size=(5, 30, 3))
+    ok = rng.uniform(size=(5, 30)) > 0.2
+    ok[4, 1:] = False                                         # one defined normal: no pair, no tuck
+    batch = tucks_deg(normals, ok, points, 20.0)
+    assert batch == [tuck_deg(normals[i], ok[i], points[i], 20.0) for i in range(5)]
+    assert batch[4] == 0.0 and max(batch[:4]) > 90.0
