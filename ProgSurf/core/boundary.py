@@ -385,7 +385,11 @@ def _resample_keeping_corners(points: FloatArray, n: int, keep: Sequence[int] = 
     """n points evenly spaced in arc length along a polyline, with its corner vertices (and the
     vertices `keep`) kept exactly."""
     cuts = sorted(set(_pieces_at_corners(points)) | {int(k) for k in keep if 0 < k < len(points) - 1})
-    lengths = np.array([chord_length(points[a:b + 1]) for a, b in zip(cuts[:-1], cuts[1:])])
+    pieces = list(zip(cuts[:-1], cuts[1:]))
+    # each piece's cumulative lengths, summed as its own would be (strokes.cumulative_length)
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    cums = [np.concatenate([[0.0], np.cumsum(seg[a:b])]) for a, b in pieces]
+    lengths = np.array([c[-1] for c in cums])
     segs = len(lengths)
     total = n - 1
     # segments per piece, proportional to length, at least one each (largest remainder)
@@ -394,9 +398,25 @@ def _resample_keeping_corners(points: FloatArray, n: int, keep: Sequence[int] = 
     rest = total - count.sum()
     if rest > 0:
         count[np.argsort(-(share - np.floor(share)))[:rest]] += 1
-    out = [points[:1]]
-    for (a, b), k in zip(zip(cuts[:-1], cuts[1:]), count):
-        out.append(resample_arclength(points[a:b + 1], int(k) + 1)[1:])
+    out: list = [points[:1]]
+    straight = [i for i, (a, b) in enumerate(pieces) if b == a + 1 and lengths[i] > 0]
+    if len(straight) > 1:
+        # the pieces of one segment (a side keeping every vertex has hundreds) in one go, with
+        # resample_arclength's arithmetic: its linspace's steps and np.interp's slope on them
+        at = np.array([pieces[i][0] for i in straight])
+        k = count[straight]
+        step = lengths[straight] / k
+        slope = (points[at + 1] - points[at]) / lengths[straight][:, None]
+        row = np.repeat(np.arange(len(straight)), k)
+        j = np.arange(len(row)) - np.repeat(np.cumsum(k) - k, k) + 1          # 1..k per piece
+        made = slope[row] * (j * step[row])[:, None] + points[at][row]
+        last = np.cumsum(k) - 1
+        made[last] = points[at + 1]
+        done = dict(zip(straight, np.split(made, np.cumsum(k)[:-1])))
+    else:
+        done = {}
+    for i, ((a, b), k, cum) in enumerate(zip(pieces, count, cums)):
+        out.append(done[i] if i in done else resample_arclength(points[a:b + 1], int(k) + 1, cum)[1:])
     return np.vstack(out)
 
 

@@ -142,7 +142,7 @@ def point_at_length(points: npt.ArrayLike, s: npt.ArrayLike, cum: FloatArray | N
 
 def _point_at(pts: FloatArray, cum: FloatArray, s: npt.ArrayLike) -> FloatArray:
     """point_at_length of pts (n, d) whose cumulative_length is cum (n,)."""
-    s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
+    s = np.minimum(np.maximum(np.asarray(s, dtype=float), 0.0), cum[-1])     # (np.clip, without its overhead)
     return np.stack([np.interp(s, cum, pts[:, k]) for k in range(pts.shape[1])], axis=-1)
 
 
@@ -263,15 +263,17 @@ def auto_filter_threshold(strokes: Sequence[npt.ArrayLike]) -> float:
     return float(threshold)
 
 
-def resample_arclength(points: npt.ArrayLike, n: int) -> FloatArray:
+def resample_arclength(points: npt.ArrayLike, n: int, cum: FloatArray | None = None) -> FloatArray:
     """n points equally spaced in arc length along a polyline, first and last kept exactly.
+    cum: cumulative_length(points), when the caller has it already.
 
     An optional alternative to the paper's midpoint insertion (`boundary.equalise`).
     """
     if int(n) != n or n < 2:
         raise InvalidOptionError(f"cannot resample to {n!r} points; give an integer >= 2")
     pts = np.asarray(points, dtype=float)
-    total = chord_length(pts)
-    out = point_at_length(pts, np.linspace(0.0, total, int(n)))
+    cum = cumulative_length(pts) if cum is None else cum
+    # (its last is chord_length(pts) to the bit)
+    out = _point_at(pts, cum, np.linspace(0.0, cum[-1], int(n)))
     out[0], out[-1] = pts[0], pts[-1]
     return out

@@ -94,3 +94,28 @@ def test_equalise_uniform_gives_even_spacing_equal_counts_and_keeps_corners():
     assert np.allclose(eb[[0, -1]], b[[0, -1]]) and np.allclose(ea[[0, -1]], a[[0, -1]])
     d = np.linalg.norm(np.diff(eb, axis=0), axis=1)
     assert d.max() / d.min() < 1.1             # even on both legs (each leg gets its share)
+
+
+def test_a_side_keeping_every_vertex_is_resampled_piece_by_piece_to_the_bit():
+    """equalise_uniform keeps every vertex of the side with fewer points (boundary_from_sides), so
+    its pieces are single segments, hundreds per side: they are resampled in one go, and must give
+    what resampling each piece on its own (strokes.resample_arclength) gives, to the bit, a piece
+    of no length and a longer piece between kept corners among them."""
+    from ProgSurf.core.boundary import _pieces_at_corners, _resample_keeping_corners
+    from ProgSurf.core.strokes import resample_arclength
+
+    rng = np.random.default_rng(3)
+    t = np.cumsum(rng.uniform(0.3, 1.7, 60))                        # uneven steps along a helix
+    side = np.column_stack([40.0 * np.cos(t / 20.0), 40.0 * np.sin(t / 20.0), 3.0 * t])
+    side[20] = side[19]                                            # a piece of no length
+    keep = [k for k in range(1, 59) if k not in (40, 41, 42)]      # 39..43: one piece of 4 segments
+    for n in (61, 137, 400):
+        got = _resample_keeping_corners(side, n, keep)
+        cuts = sorted(set(_pieces_at_corners(side)) | set(keep))
+        assert len(got) == n and set(cuts) >= {39, 43} and 40 not in cuts
+        # where each kept vertex landed: between them, each piece resampled on its own
+        at = [int(np.flatnonzero((got == side[c]).all(axis=1))[-1 if c == 20 else 0]) for c in cuts]
+        for (a, b), (i, j) in zip(zip(cuts[:-1], cuts[1:]), zip(at[:-1], at[1:])):
+            if a == 19:                                            # the piece of no length
+                continue
+            assert np.array_equal(got[i:j + 1], resample_arclength(side[a:b + 1], j - i + 1)), (n, a)
