@@ -420,6 +420,18 @@ def _resample_keeping_corners(points: FloatArray, n: int, keep: Sequence[int] = 
     return np.vstack(out)
 
 
+ARC_BLOCK = 64
+"""arc_positions locates this many points at a time."""
+
+
+def _squares(v: FloatArray) -> FloatArray:
+    """Squared lengths (...,) of vectors (..., 3), summed as np.linalg.norm sums them (x + y, then z)."""
+    out = v[..., 0] * v[..., 0]
+    out += v[..., 1] * v[..., 1]
+    out += v[..., 2] * v[..., 2]
+    return out
+
+
 def arc_positions(original: npt.ArrayLike, points: npt.ArrayLike):
     """Parameters (0..1) of points that lie on the polyline `original`, in order along it (its
     resampling, equalise_uniform): their arc length along it over its length, strictly increasing.
@@ -434,13 +446,21 @@ def arc_positions(original: npt.ArrayLike, points: npt.ArrayLike):
     a, d = orig[:-1], np.diff(orig, axis=0)
     dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
     out, k = [], 0
-    for p in pts:
-        # the segment it lies on, at or after the last one (the points run along the polyline)
-        t = np.clip(np.einsum("ij,ij->i", p - a[k:], d[k:]) / dd[k:], 0.0, 1.0)
-        gap = np.linalg.norm(a[k:] + t[:, None] * d[k:] - p, axis=1)
-        j = int(np.argmin(gap))
-        k += j
-        out.append(cum[k] + t[j] * step[k])
+    for first in range(0, len(pts), ARC_BLOCK):
+        # each point's segment is at or after the last one's (the points run along the polyline):
+        # a block of points against the segments from the block's first one's, each point's own
+        # arithmetic (its projection on each segment and its distance to it) as one at a time
+        block = pts[first:first + ARC_BLOCK]
+        rel = block[:, None, :] - a[None, k:]
+        # (x + z, then y: the order np.einsum("ij,ij->i") adds a row's three products in)
+        dot = rel[..., 0] * d[k:, 0] + rel[..., 2] * d[k:, 2] + rel[..., 1] * d[k:, 1]
+        t = np.minimum(np.maximum(dot / dd[k:], 0.0), 1.0)
+        gap = np.sqrt(_squares(a[k:] + t[..., None] * d[k:] - block[:, None, :]))
+        base = k
+        for row in range(len(block)):
+            j = int(np.argmin(gap[row, k - base:]))
+            k += j
+            out.append(cum[k] + t[row, k - base] * step[k])
     prm = np.asarray(out) / total
     prm[0], prm[-1] = 0.0, 1.0
     # two points at one place (a zero-length segment) still need two parameters: each is kept a

@@ -119,3 +119,53 @@ def test_a_side_keeping_every_vertex_is_resampled_piece_by_piece_to_the_bit():
             if a == 19:                                            # the piece of no length
                 continue
             assert np.array_equal(got[i:j + 1], resample_arclength(side[a:b + 1], j - i + 1)), (n, a)
+
+
+def _arc_position_alone(orig: np.ndarray, pts: np.ndarray) -> list:
+    """Each point located on its own (arc_positions before it located them in blocks): the segment
+    nearest it at or after the last point's."""
+    step = np.linalg.norm(np.diff(orig, axis=0), axis=1)
+    cum = np.concatenate([[0.0], np.cumsum(step)])
+    a, d = orig[:-1], np.diff(orig, axis=0)
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    out, k = [], 0
+    for p in pts:
+        t = np.clip(np.einsum("ij,ij->i", p - a[k:], d[k:]) / dd[k:], 0.0, 1.0)
+        j = int(np.argmin(np.linalg.norm(a[k:] + t[:, None] * d[k:] - p, axis=1)))
+        k += j
+        out.append(cum[k] + t[j] * step[k])
+    return out
+
+
+def test_points_located_in_blocks_land_where_each_alone_lands_to_the_bit():
+    """boundary.arc_positions locates a resampled side's points on the original a block at a time
+    (ARC_BLOCK); each must get the parameter it gets located alone, to the bit, on a side that
+    doubles back close to itself (the search only forward keeps the points in order) and with more
+    points than a block."""
+    from ProgSurf.core.boundary import ARC_BLOCK, arc_positions, equalise_uniform
+
+    rng = np.random.default_rng(5)
+    t = np.linspace(0.0, 1.0, 150)
+    hairpin = np.column_stack([100.0 * np.sin(np.pi * t), 3.0 * np.cos(np.pi * t), 0.1 * t])
+    hairpin += rng.normal(scale=0.05, size=hairpin.shape)
+    for n in (40, 3 * ARC_BLOCK + 5):
+        side, _ = equalise_uniform(hairpin, np.linspace([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], n))
+        side = side + rng.normal(scale=1e-9, size=side.shape)      # a fit's points lie a hair off
+        prm = arc_positions(hairpin, side)
+        ref = np.asarray(_arc_position_alone(hairpin, side)) / float(np.linalg.norm(np.diff(hairpin, axis=0), axis=1).sum())
+        ref[0], ref[-1] = 0.0, 1.0
+        assert np.array_equal(prm, ref / ref[-1]), n
+        assert np.all(np.diff(prm) > 0)                          # in order, across the hairpin's gap
+
+
+def test_squared_distances_are_summed_as_numpy_sums_them():
+    """cad.object_g1's nearest-sample search sums squared differences per coordinate; it must give
+    ((q - p) ** 2).sum(axis=-1) to the bit (which sample is nearest decides where a neighbour
+    surface is looked up)."""
+    from ProgSurf.cad.object_g1 import _squared_distances
+
+    rng = np.random.default_rng(11)
+    for scale in (1e-3, 1.0, 1e3):
+        q = rng.normal(size=(19, 3)) * scale
+        p = rng.normal(size=(2000, 3)) * scale * rng.uniform(0.5, 2.0, size=(2000, 1))
+        assert np.array_equal(_squared_distances(q, p), ((q[:, None, :] - p[None]) ** 2).sum(axis=2))
