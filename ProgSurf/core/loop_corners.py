@@ -46,6 +46,20 @@ COARSE_SAMPLES = 4
 SHORTLIST = 8
 """... and how many of the best screened are measured on the fold checks' own samples."""
 
+CREASE_SAMPLES = 33
+"""Samples per side of the grid on which a patch's crease is read (patch_creases_deg)."""
+
+CREASE_INSET = 0.1
+"""... in from the sides by this share: by a corner, where two sides meet at a point or a triangle's
+sides close on its apex, the normal turns round quickly however smooth the patch (helibody's
+noisy triangles: 120-164 deg between samples at 6 % from a corner, faces built fine)."""
+
+CREASE_DEG = 90.0
+"""Other corners whose patch turns more than this between neighbouring samples (a fold line) are
+not taken where the paper corners' patch does not: a patch that bends far over but smoothly
+(a nacelle's lip, its sides U-shaped round it) reads as folding on the turn checks, and corners that
+turn less on them twisted it into a band folded along a line (TiGL full_nacelle)."""
+
 MAX_TRIES = 400
 """At most this many corner choices per loop: with more places than that allows, only the
 loop's nodes are corner places (the sides' middles are left out)."""
@@ -78,7 +92,34 @@ def patch_turns_deg(choices: Sequence[Sequence[FloatArray]], reach: float,
     arithmetic is per patch, so one choice gives what it gives alone."""
     if not choices:
         return []
-    s, r = _face_samples(samples)
+    points, normals, ok = _patch_frames(choices, *_face_samples(samples))
+    turns = _turns_from_mean_deg(list(zip(normals, ok)))
+    return [max(a, b) for a, b in zip(turns, tucks_deg(normals, ok, points, reach))]
+
+
+def patch_creases_deg(choices: Sequence[Sequence[FloatArray]], samples: int = CREASE_SAMPLES) -> list[float]:
+    """Per choice of sides (as patch_turns_deg takes them), the largest angle (deg) between the
+    normals of neighbouring samples of its Coons patch on a samples x samples grid CREASE_INSET in
+    from its sides: a smooth patch, however far it bends over, turns a little from one sample to the
+    next; one folded along a line turns over between the two samples either side of it."""
+    if not choices:
+        return []
+    g = np.linspace(CREASE_INSET, 1.0 - CREASE_INSET, samples)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    _, normals, ok = _patch_frames(choices, s, r)
+    grid = normals.reshape(len(choices), samples, samples, 3)
+    good = ok.reshape(len(choices), samples, samples)
+    out = []
+    for n, k in zip(grid, good):
+        cos = [np.where(k[1:] & k[:-1], (n[1:] * n[:-1]).sum(axis=-1), 1.0),
+               np.where(k[:, 1:] & k[:, :-1], (n[:, 1:] * n[:, :-1]).sum(axis=-1), 1.0)]
+        out.append(float(np.degrees(np.arccos(min(max(min(c.min() for c in cos), -1.0), 1.0)))))
+    return out
+
+
+def _patch_frames(choices: Sequence[Sequence[FloatArray]], s: FloatArray, r: FloatArray) -> tuple:
+    """The Coons patches of several choices of sides at local (s, r) (k,): their points and unit
+    normals (m, k, 3) and (m, k) where the normal is defined."""
     # each side at the samples' parameters and a step either side (their tangents), in one go
     h = 1e-6
     at_u = np.concatenate([s, np.minimum(s + h, 1.0), np.maximum(s - h, 0.0)])
@@ -123,8 +164,7 @@ def patch_turns_deg(choices: Sequence[Sequence[FloatArray]], reach: float,
     size = np.linalg.norm(cross, axis=-1)
     ok = size > 1e-12 * np.maximum(size.max(axis=1, initial=0.0), 1e-300)[:, None]
     normals = cross / np.where(ok, size, 1.0)[..., None]
-    turns = _turns_from_mean_deg(list(zip(normals, ok)))
-    return [max(a, b) for a, b in zip(turns, tucks_deg(normals, ok, points, reach))]
+    return points, normals, ok
 
 
 def _places(sides: Sequence[FloatArray], middles: Sequence[bool]) -> tuple[FloatArray, list]:
@@ -212,9 +252,13 @@ def choose_sides(sides: Sequence[FloatArray], inside_ends: Optional[FloatArray] 
     best = (base - GAIN_DEG, None, -1)
     short = sorted(range(len(tries)), key=lambda i: (coarse[i], i))[:SHORTLIST]
     fine = patch_turns_deg([_cut(loop, tries[k][0], cuts) for k in short], reach)
-    for k, measured in zip(short, fine):
+    # no choice that folds along a line where the paper corners' patch only bends
+    crease, *creases = patch_creases_deg([first] + [_cut(loop, tries[k][0], cuts) for k in short])
+    for k, measured, folded in zip(short, fine, creases):
         at, apex = tries[k]
         turn = measured + cost[k]
+        if crease <= CREASE_DEG < folded:
+            continue
         if turn < best[0] - 1e-9:
             best = (turn, at, apex)
     turn, at, apex = best

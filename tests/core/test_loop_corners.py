@@ -163,3 +163,42 @@ def test_corner_choices_measured_together_turn_as_each_does_alone():
     batch = tucks_deg(normals, ok, points, 20.0)
     assert batch == [tuck_deg(normals[i], ok[i], points[i], 20.0) for i in range(5)]
     assert batch[4] == 0.0 and max(batch[:4]) > 90.0
+
+
+def _lip_quarter(leg: float = 300.0, r: float = 60.0, radius: float = 800.0) -> list:
+    """A quarter of a nacelle's intake lip (TiGL full_nacelle's front surfaces): a U profile (an
+    inner leg, a half circle of radius r round the lip, an outer leg) turned 90 deg about the x
+    axis at `radius`; its loop is the inner ring, the U at 90 deg, the outer ring, the U at 0 deg."""
+    a = np.linspace(0.0, 1.0, 60)
+    t = np.linspace(0.0, np.pi, 60)
+    prof = np.vstack([np.column_stack([leg * (1 - a), np.full(60, -r)]),
+                      np.column_stack([-r * np.sin(t), -r * np.cos(t)])[1:],
+                      np.column_stack([leg * a, np.full(60, r)])[1:]])
+
+    def turned(x, rad, phi):
+        return np.column_stack([x, rad * np.cos(phi), rad * np.sin(phi)])
+
+    phi = np.linspace(0.0, np.pi / 2, 60)
+    inner = turned(np.full(60, prof[0, 0]), radius + prof[0, 1], phi)
+    outer = turned(np.full(60, prof[-1, 0]), radius + prof[-1, 1], phi)
+    return [inner, turned(prof[:, 0], radius + prof[:, 1], np.pi / 2), outer[::-1],
+            turned(prof[::-1, 0], radius + prof[::-1, 1], 0.0)]
+
+
+def test_a_lip_that_bends_right_over_keeps_its_corners_rather_than_fold_along_a_line(monkeypatch):
+    """A lip's patch turns 180 deg (its inner and outer skins face apart a lip's width from each
+    other), so the turn checks read it as folding; but it bends smoothly, a few degrees from one
+    sample to the next. Corners that read as turning less twisted it into a band folded along a
+    line (TiGL full_nacelle's front quarters, rendered): such corners are not taken."""
+    from ProgSurf.core import loop_corners
+    from ProgSurf.core.loop_corners import CREASE_DEG, patch_creases_deg
+
+    sides = _lip_quarter()
+    reach = 0.15 * float(np.linalg.norm(np.ptp(np.vstack(sides), axis=0)))
+    assert patch_turn_deg(sides, reach) > FOLD_DEG                 # the checks call it a fold
+    assert patch_creases_deg([sides])[0] < 45.0                    # it bends smoothly
+    assert choose_sides(sides) is None
+    # the corners the turn checks alone would take: folded along a line
+    monkeypatch.setattr(loop_corners, "CREASE_DEG", float("inf"))
+    other = choose_sides(sides)
+    assert other is not None and patch_creases_deg([other[0]])[0] > CREASE_DEG
