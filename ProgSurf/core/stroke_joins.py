@@ -53,12 +53,12 @@ near no other stroke's middle, and whose lines pass within delta of one point, m
 stopping short or running over by a few delta. Taken two at a time (T-nodes, corner gaps) they made
 two or three nodes round the tip, and the loops between them were slivers or missing."""
 
-CORNER_MISS = 1.0
+CORNER_MISS = 1.5
 """Two free ends stopped short of their corner (_corner_gaps) meet there when their lines pass within
 this many delta of each other (the lines of three or more ends, _meeting_ends, within delta of one
 point): at 0.5 a rough hand's grid corners stayed open, the end directions over their last delta
 skew by the drawing's jitter and drift (objects benchmark grid_1004r: lines 0.54 and 0.79 delta
-apart, ends 2.2 delta apart)."""
+apart, ends 2.2 delta apart); at 1.0 too (grid_3003r: 1.02 delta apart)."""
 
 MEET_REACH = 6.0
 """... each end within this many delta of the point (twice EXTEND: the lines passing within delta
@@ -421,7 +421,9 @@ def _corner_gaps(free: list, delta: float, cands: NodeCandidates) -> None:
         i, si, p, d = free[x]
         for y in range(x + 1, len(free)):
             j, sj, q, e = free[y]
-            if i == j or d is None or e is None or np.linalg.norm(p - q) > reach:
+            # (each stopped up to a reach short: the ends lie up to two reaches apart, grid_9010r's
+            # 3.2 delta apart, each 2 delta short of the corner)
+            if i == j or d is None or e is None or np.linalg.norm(p - q) > 2 * reach:
                 continue
             # closest approach of the rays p + a d and q + b e
             w = p - q

@@ -374,6 +374,25 @@ def test_two_strokes_stopped_short_of_their_corner_meet_there():
     assert len([n for n in g.nodes if n.kind == "end"]) == 2
 
 
+def test_two_strokes_stopped_further_short_of_their_corner_meet_there():
+    """A rough hand stops each of a grid's corner strokes up to 3 delta short (EXTEND), so their ends
+    lie up to 6 delta apart (objects benchmark grid_9010r: each 2 delta short, 3.2 delta apart, which
+    the pair's old 3 delta reach between the ends left open); and the lines of its ends, skewed by
+    the jitter, pass up to CORNER_MISS (1.5) delta apart (grid_3003r: 1.02, beyond the old 1.0)."""
+    d = 1.0
+    square = [line([0, 0, 0], [40, 0, 0]), line([40, 0, 0], [40, 40, 0]), line([40, 40, 0], [2.2 * d, 40, 0])]
+    for short, lift, meet in ((2.2, 0.0, True), (2.8, 0.0, True), (1.5, 1.2, True), (2.2, 1.2, True),
+                              (1.5, 1.7, False), (3.5, 0.0, False)):
+        strokes = [*square[:2], line([40, 40, 0], [short * d, 40, 0]), line([0, 0, 0], [0, 40 - short * d, lift * d])]
+        g = build_stroke_graph(strokes, d)
+        ends = [n for n in g.nodes if n.kind == "end"]
+        assert (not ends) == meet, (short, lift, [n.point for n in ends])
+        if meet:
+            corner = min(g.nodes, key=lambda n: np.linalg.norm(n.point - [0, 40, 0]))
+            assert np.linalg.norm(corner.point - [0, 40, 0.5 * lift * d]) < 0.3 * d, (short, lift)
+            assert [len(c.sides) for c in find_cycles(g).cycles] == [4]
+
+
 def test_a_ring_drawn_with_a_gap_closes():
     """A ring crossed by two rulings, drawn round with a gap of 2.5 delta at its seam: its own
     direction leads to its start, and it closes there."""
