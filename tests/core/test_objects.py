@@ -461,3 +461,19 @@ def test_g1_across_surfaces_turns_their_normals_together_within_the_bound():
 
     cube = build_object_and_measure(cube_edges(), continuity="G1").model.across
     assert cube["smooth_sides"] == 0 and cube["sharp_sides"] == 24
+
+
+def test_an_ok_verdict_names_the_strokes_that_bound_no_surface():
+    """A whole object may be missing a surface the designer drew, its strokes left dangling, while
+    every check passes (objects benchmark body_1003r: 15 of 20 surfaces, "quality: ok"): the ok
+    verdict names the strokes whose pieces bound no surface and lie inside none. A stroke merged
+    into another (drawn over it) is not one; the cube, every stroke bounding two faces, has none."""
+    cube = build_object_and_measure(cube_edges())
+    assert cube.strays == [] and cube.verdict() == "quality: ok (every loop of curves built; every shell valid)"
+    far = [line([30, 30, 30], [60, 40, 50])]                      # a stroke nowhere near the cube
+    over = [cube_edges()[0] + [0.0, 0.05, 0.0]]                   # an edge drawn over again
+    out = build_object_and_measure(cube_edges() + far + over)
+    assert len(out.build.surfaces) == 6 and out.problems == []
+    assert out.strays == [12]
+    assert 13 in out.build.graph.merged
+    assert out.verdict().startswith("quality: ok") and "1 stroke(s) bound no surface: [12]" in out.verdict()
