@@ -116,11 +116,13 @@ class ObjectOutcome:
         """The input strokes that are pieces of the network and yet bound no surface and lie inside
         none (they dangle, or their loops were not found): where a surface the designer drew may
         be missing (objects benchmark body_1003r: 5 of its 20 surfaces, 3 strokes dangling, and
-        "quality: ok"). Not a failed check: a sketch may hold lines that bound nothing."""
+        "quality: ok"). Not a failed check: a sketch may hold lines that bound nothing. Strokes a
+        surface was offered as interior strokes and rejected are not among them (their reason is
+        the surface's); strokes merged into others have no pieces."""
         graph = self.build.graph
+        offered = {graph.edges[e].stroke for surf in self.build.surfaces for e in surf.interior}
         return [r.index for r in self.build.roles
-                if not r.used and r.index not in graph.merged and graph.edges_of_stroke(r.index)
-                and "rejected it" not in r.reason]
+                if not r.used and r.index not in offered and graph.edges_of_stroke(r.index)]
 
     def verdict(self) -> str:
         problems = self.problems

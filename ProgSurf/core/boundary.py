@@ -424,14 +424,6 @@ ARC_BLOCK = 64
 """arc_positions locates this many points at a time."""
 
 
-def _squares(v: FloatArray) -> FloatArray:
-    """Squared lengths (...,) of vectors (..., 3), summed as np.linalg.norm sums them (x + y, then z)."""
-    out = v[..., 0] * v[..., 0]
-    out += v[..., 1] * v[..., 1]
-    out += v[..., 2] * v[..., 2]
-    return out
-
-
 def arc_positions(original: npt.ArrayLike, points: npt.ArrayLike):
     """Parameters (0..1) of points that lie on the polyline `original`, in order along it (its
     resampling, equalise_uniform): their arc length along it over its length, strictly increasing.
@@ -455,7 +447,7 @@ def arc_positions(original: npt.ArrayLike, points: npt.ArrayLike):
         # (x + z, then y: the order np.einsum("ij,ij->i") adds a row's three products in)
         dot = rel[..., 0] * d[k:, 0] + rel[..., 2] * d[k:, 2] + rel[..., 1] * d[k:, 1]
         t = np.minimum(np.maximum(dot / dd[k:], 0.0), 1.0)
-        gap = np.sqrt(_squares(a[k:] + t[..., None] * d[k:] - block[:, None, :]))
+        gap = np.linalg.norm(a[k:] + t[..., None] * d[k:] - block[:, None, :], axis=-1)
         base = k
         for row in range(len(block)):
             j = int(np.argmin(gap[row, k - base:]))

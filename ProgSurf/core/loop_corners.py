@@ -251,9 +251,10 @@ def choose_sides(sides: Sequence[FloatArray], inside_ends: Optional[FloatArray] 
                                                     COARSE_SAMPLES), cost)]
     best = (base - GAIN_DEG, None, -1)
     short = sorted(range(len(tries)), key=lambda i: (coarse[i], i))[:SHORTLIST]
-    fine = patch_turns_deg([_cut(loop, tries[k][0], cuts) for k in short], reach)
+    shortlisted = [_cut(loop, tries[k][0], cuts) for k in short]
+    fine = patch_turns_deg(shortlisted, reach)
     # no choice that folds along a line where the paper corners' patch only bends
-    crease, *creases = patch_creases_deg([first] + [_cut(loop, tries[k][0], cuts) for k in short])
+    crease, *creases = patch_creases_deg([first] + shortlisted)
     for k, measured, folded in zip(short, fine, creases):
         at, apex = tries[k]
         turn = measured + cost[k]
