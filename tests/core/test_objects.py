@@ -477,3 +477,33 @@ def test_an_ok_verdict_names_the_strokes_that_bound_no_surface():
     assert out.strays == [12]
     assert 13 in out.build.graph.merged
     assert out.verdict().startswith("quality: ok") and "1 stroke(s) bound no surface: [12]" in out.verdict()
+
+
+def test_a_loop_of_two_strokes_gets_a_corner_where_one_of_them_bends_sharply():
+    """Two sides of a triangle drawn as one stroke bent at their corner, the third as another
+    stroke: a loop of two sides. It is cut to four at the bend, not at the middle of a side (the
+    bent stroke's middle lies on its long leg, 3 mm from the bend); the straight stroke's middle is
+    the fourth corner. (CASSIE 07-2-2, 02-0-2: loops cut away from their strokes' bends folded.)"""
+    p, q, r = np.array([0.0, 0, 0]), np.array([10.0, 0, 0]), np.array([10.0, 4, 0])
+    bent = np.vstack([line(p, q, 30), line(q, r, 13)[1:]])
+    back = line(r, p, 30)
+    back[:, 2] += 0.3 * np.sin(np.linspace(0, np.pi, 30))       # not quite flat
+    build = build_object([bent, back])
+    assert len(build.surfaces) == 1
+    corners = build.surfaces[0].result.boundary.corners
+    assert np.linalg.norm(corners - q, axis=1).min() < 1e-9
+    # the fourth corner is on the other stroke, near its middle (its point 15 of 30)
+    assert np.linalg.norm(corners - back[15], axis=1).min() < 0.5
+
+
+def test_a_bend_shorter_than_the_stroke_filter_is_not_a_corner():
+    """A side's turns are read over the stroke filter's distance at least: a wavy side (waves 1 mm
+    long, 0.1 mm high, on a 10 mm side) turns more than KINK_SPLIT_DEG over 4 % of its length,
+    which is its jitter, not a corner, when the filter's distance is 2 mm (the noisy TiGL
+    fuselage: a piece's noise read as an 81 deg turn)."""
+    from ProgSurf.core.objects import KINK_SPLIT_DEG, _sharpest_kink
+
+    t = np.linspace(0, 1, 200)
+    wiggle = np.c_[10 * t, 0.1 * np.sin(20 * np.pi * t), 0 * t]
+    assert _sharpest_kink(wiggle)[0] > KINK_SPLIT_DEG
+    assert _sharpest_kink(wiggle, window_mm=2.0)[0] < KINK_SPLIT_DEG
