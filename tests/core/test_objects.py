@@ -507,3 +507,21 @@ def test_a_bend_shorter_than_the_stroke_filter_is_not_a_corner():
     wiggle = np.c_[10 * t, 0.1 * np.sin(20 * np.pi * t), 0 * t]
     assert _sharpest_kink(wiggle)[0] > KINK_SPLIT_DEG
     assert _sharpest_kink(wiggle, window_mm=2.0)[0] < KINK_SPLIT_DEG
+
+
+def test_the_summary_names_every_folding_surface_and_the_strokes_that_bound_it():
+    """The verdict names the worst fold alone; the summary has a line for each folding surface,
+    with its bounding strokes, and none where nothing folds."""
+    from ProgSurf.app.objects import object_summary
+
+    folded = build_object_and_measure(_far_side_strokes(-40.0))
+    bad = [k for k, f in enumerate(folded.folds) if f]
+    text = object_summary(object_report(folded, outputs={"step": "x.step"}))
+    sides = sorted({folded.build.graph.edges[e].stroke for e in folded.build.surfaces[bad[0]].sides})
+    lines = [ln for ln in text.splitlines() if " folds: " in ln]
+    assert len(lines) == 1 and lines[0].startswith(f"  surface {bad[0]} (bounded by strokes ")
+    named = [int(x) for x in lines[0].split("strokes [")[1].split("]")[0].split(",")]
+    assert sorted(named) == sides                   # each once
+    assert 4 in sides                               # the far side that swings back
+    fine = build_object_and_measure(_far_side_strokes(20.0))
+    assert " folds: " not in object_summary(object_report(fine, outputs={"step": "x.step"}))
