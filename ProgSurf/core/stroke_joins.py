@@ -185,7 +185,13 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
                 continue
             to_x = x - p
             dist = float(np.linalg.norm(to_x))
-            if delta < dist <= reach and float(d @ to_x) >= np.cos(np.radians(LATE_DEG)) * dist:
+            if not delta < dist <= reach:
+                continue
+            # its direction over its last delta, or over EXTEND_BACK x delta (as an extension's):
+            # a rough hand's last delta turns off by its jitter (objects body_23009r: a guide
+            # 2.6 delta short of the tip heading 47 deg off it, its tip loops merged to one)
+            back = end_direction(strokes[i], cums[i], s_end, EXTEND_BACK * delta)
+            if any(v is not None and float(v @ to_x) >= np.cos(np.radians(LATE_DEG)) * dist for v in (d, back)):
                 late[i] = s_end
         if not late and max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
             continue        # (ends drawn to within delta of the point: they touch there, the other rules join them)

@@ -809,3 +809,42 @@ def test_a_mirrored_meeting_of_ends_is_the_same_whichever_way_its_strokes_run(fl
         moved = build_stroke_graph(_mirrored_meeting(flip, seed), 13.77)
         assert sorted(map(tuple, np.round([n.point for n in moved.nodes], 3))) == pts
         assert len(moved.edges) == len(reference.edges)
+
+
+def test_an_end_that_stopped_short_of_a_meeting_with_a_flick_at_its_end_joins_it():
+    """The cone of the test above, its sixth ruling heading straight for the tip and stopping 2.7
+    delta short of it, its last 0.8 delta flicked 70 deg off the cone (a rough hand lifting the pen): its
+    direction over its last delta is off the tip by more than LATE_DEG, over its last 2 delta
+    (stroke_joins.EXTEND_BACK, as an extension's) within it, and it joins the tip: one node of six
+    rulings (objects benchmark body_23009r: a guide 2.6 delta short of its tip, 47 deg off over its
+    last delta, left dangling; two loops beside it made one)."""
+    delta = 5.0
+    tip = np.array([0.0, 0.0, 100.0])
+    th = np.linspace(0, 2 * np.pi, 200)
+    rulings = []
+    for k, over in enumerate([-0.8, 0.6, -0.5, 0.9, -0.4]):
+        a = 2 * np.pi * k / 6 + 0.3
+        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
+    a = 2 * np.pi * 5 / 6 + 0.3
+    foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+    g_dir = (tip - foot) / np.linalg.norm(tip - foot)
+    side = np.cross(g_dir, [0.0, 0.0, 1.0])
+    side /= np.linalg.norm(side)
+    lift = np.cross(side, g_dir)                  # off the cone's surface, away from the other rulings
+    bend = tip - 2.9 * delta * g_dir
+    t = np.radians(70.0)
+    flick = bend + 0.8 * delta * (np.cos(t) * g_dir + np.sin(t) * lift)
+    rulings.append(np.vstack([line(foot, bend, 40), line(bend, flick, 5)[1:]]))
+    from ProgSurf.core.stroke_joins import LATE_DEG, end_direction
+    from ProgSurf.core.strokes import cumulative_length
+    last = rulings[-1]
+    cum = cumulative_length(last)
+    for reach, off in ((delta, True), (2 * delta, False)):
+        d = end_direction(last, cum, float(cum[-1]), reach)
+        to_tip = (tip - last[-1]) / np.linalg.norm(tip - last[-1])
+        assert (np.degrees(np.arccos(d @ to_tip)) > LATE_DEG) == off, reach
+    g = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, delta)
+    near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 4 * delta]
+    assert len(near) == 1 and g.degree(near[0].id) == 6, [(n.kind, n.point) for n in near]
+    assert not [n for n in g.nodes if n.kind == "end"]
