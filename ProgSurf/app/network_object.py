@@ -21,6 +21,7 @@ import FreeCAD
 import Part
 
 from ProgSurf.core.errors import ProgSurfError
+from ProgSurf.core.objects import side_strokes
 from ProgSurf.core.types import Tolerances
 
 from . import stroke_object
@@ -152,7 +153,7 @@ def write_results(obj, outcome) -> None:
     strokes = list(obj.Strokes)
 
     def indices(edge_ids) -> str:
-        return " ".join(str(i) for i in sorted({graph.edges[e].stroke for e in edge_ids}))
+        return " ".join(str(i) for i in sorted(set(side_strokes(graph, edge_ids))))
 
     def users(k: int, field: str) -> str:
         return " ".join(str(r.index) for r in build.roles if k in getattr(r, field))

@@ -21,7 +21,7 @@ from ProgSurf.cad import analysis as cad_analysis
 from ProgSurf.cad.object_shell import ObjectShell, build_object_shell
 from ProgSurf.core.blas import one_blas_thread
 from ProgSurf.core.errors import ProgSurfError
-from ProgSurf.core.objects import BuildCache, ObjectBuild, build_object
+from ProgSurf.core.objects import BuildCache, ObjectBuild, build_object, side_strokes
 from ProgSurf.core.types import Tolerances
 
 from .build import FIT_GRID, fold_record
@@ -107,9 +107,8 @@ class ObjectOutcome:
 
     def shared_strokes(self, a: int, b: int) -> list:
         """The input strokes along which surfaces a and b meet (the graph edges both cycles hold)."""
-        edges = self.build.graph.edges
         both = set(self.build.surfaces[a].sides) & set(self.build.surfaces[b].sides)
-        return sorted({edges[e].stroke for e in both})
+        return sorted(set(side_strokes(self.build.graph, both)))
 
     @property
     def strays(self) -> list:
@@ -210,7 +209,8 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         n_faces = sum(1 for owner in outcome.model.face_owner if owner == k)
         surfaces.append({
             "surface": k, "part": surf.part, "sides": len(surf.sides),
-            "side_strokes": [graph.edges[e].stroke for e in surf.sides],
+            "side_strokes": side_strokes(graph, surf.sides),
+            "curves_across": sum(1 for e in surf.sides if e >= len(graph.edges)),
             "interior_strokes": [graph.edges[e].stroke for e in surf.interior],
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
             "seam_angle_max_deg": outcome.seam_angle_max_deg[k] if outcome.seam_angle_max_deg else None,
@@ -231,8 +231,11 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
                     "cycles": len(build.choice.cycles), "dangling_edges": len(build.choice.dangling),
                     "dropped_faces": [{"sides": len(c.sides), "reason": r} for c, r in build.choice.dropped]},
         "surfaces": surfaces,
-        "failed_loops": [{"side_strokes": [graph.edges[e].stroke for e, _ in c.sides], "reason": r}
+        "failed_loops": [{"side_strokes": side_strokes(graph, [e for e, _ in c.sides]), "reason": r}
                          for c, r in build.failed],
+        "divided_loops": [{"side_strokes": strokes_of, "turn_deg": whole, "parts_turn_deg": worse,
+                           "surfaces": [k for k, surf in enumerate(build.surfaces) if curve in surf.sides]}
+                          for curve, strokes_of, whole, worse in build.divisions],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
         # the single surface's headline measures, over the whole object: the largest fit deviation
         # of any surface, and the largest angle between two faces' normals along any seam away from
@@ -290,6 +293,9 @@ def object_summary(report: Mapping) -> str:
                      f"{across['sharp_sides']} along curves drawn sharp, left G0")
     lines += [f"  stroke {s['index']} unused: {s['reason']}" for s in report["strokes"] if not s["used"]]
     lines += [f"  loop of strokes {f['side_strokes']} made no surface: {f['reason']}" for f in report["failed_loops"]]
+    lines += [f"  loop of strokes {list(dict.fromkeys(d['side_strokes']))} divided by a curve across it into "
+              f"surfaces {d['surfaces']}: one patch turned {d['turn_deg']:.0f} deg inside it, its parts "
+              f"{d['parts_turn_deg']:.0f} deg at most" for d in report.get("divided_loops") or []]
     lines += _problem_lines(report)
     lines.append("wrote " + ", ".join(report["outputs"].values()))
     lines.append(report["quality"]["verdict"])

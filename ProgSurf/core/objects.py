@@ -31,6 +31,7 @@ from .coons import f1
 from .errors import ProgSurfError
 from .fairing import fair_stroke, stroke_tolerance
 from .loop_corners import choose_sides
+from .loop_split import MIN_SIDES, best_division
 from .node_tangents import node_tangents
 from .pipeline import BuildResult, build_network, resolve_tolerances
 from .stroke_cycles import Cycle, CycleChoice, find_cycles, vector_area
@@ -133,9 +134,12 @@ class ObjectBuild:
     roles    : StrokeRole per input stroke, in input order
     tol      : the tolerances used (automatic values resolved from the whole sketch)
     timings_s: seconds: "graph", "cycles", "surfaces"
-    polylines: graph edge id -> its faired points (n, 3) (edge_polylines), the surfaces' sides
+    polylines: graph edge id -> its faired points (n, 3) (edge_polylines), the surfaces' sides;
+               and the curves drawn across divided loops (ids from len(graph.edges) on)
     tangents : {(graph edge id, end 0/1): (3,) unit direction} where a stroke runs smoothly through
                a node (core.node_tangents): the graph edges' curves leave their nodes along these
+    divisions: per loop divided in two (core.loop_split), (the id of the curve across it, the
+               input strokes of its sides, its patch's turn, the worse part's; deg)
     """
 
     graph: StrokeGraph
@@ -147,6 +151,7 @@ class ObjectBuild:
     timings_s: dict = field(default_factory=dict)
     polylines: dict = field(default_factory=dict)
     tangents: dict = field(default_factory=dict)
+    divisions: tuple = ()
 
     @property
     def rebuilt(self) -> tuple:
@@ -567,11 +572,13 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     for cycle in choice.cycles:
         for e, _ in cycle.sides:
             uses[e] = uses.get(e, 0) + 1
-    for k, cycle in enumerate(choice.cycles):
+    polylines = dict(polylines)
+    loops, divisions = _divided(graph, [(c, interior.get(k, [])) for k, c in enumerate(choice.cycles)],
+                                polylines, uses)
+    for cycle, inside in loops:
         # a side no other surface shares may get a corner in its middle (loop_corners)
         sides, own = _split_few_sides(cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides],
                                       tol.filter_mm or 0.0)
-        inside = interior.get(k, [])
         inner = [polylines[e] for e in inside]
         key = (surface_key(sides, inner, inner_tol), tuple(own))
         done = cache.lookup("surface", key) if cache is not None else None
@@ -588,10 +595,43 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
             failed.append((cycle, done))
             continue
         surfaces.append(ObjectSurface(cycle, done, tuple(e for e, _ in cycle.sides), tuple(inside),
-                                      part_of[cycle.sides[0][0]], key, reused, _curves_key(cycle, tangents)))
+                                      part_of[next(e for e, _ in cycle.sides if e in part_of)], key, reused,
+                                      _curves_key(cycle, tangents)))
     timings["surfaces"] = time.perf_counter() - clock
     return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed),
-                       tol, timings, polylines, tangents)
+                       tol, timings, polylines, tangents, tuple(divisions))
+
+
+def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict) -> tuple[list, list]:
+    """The (cycle, interior edge ids) to build: each loop of loop_split.MIN_SIDES or more sides,
+    with no stroke inside it, whose patch folds whatever its corners, divided in two by a curve
+    across it where neither part folds (loop_split.best_division). The curves are added to
+    polylines (ids from len(graph.edges) on) and counted in uses (twice: each bounds both
+    parts); returns (the loops, the divisions: ObjectBuild.divisions)."""
+    out, divisions = [], []
+    next_id = len(graph.edges)
+    for cycle, inside in loops:
+        found = None
+        if not inside and len(cycle.sides) >= MIN_SIDES:
+            found = best_division(cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides])
+        if found is None:
+            out.append((cycle, inside))
+            continue
+        i, j, across, whole, worse = found
+        polylines[next_id] = across
+        uses[next_id] = 2
+        divisions.append((next_id, side_strokes(graph, [e for e, _ in cycle.sides]), whole, worse))
+        sides = tuple(cycle.sides)
+        out.append((Cycle(sides[i:j] + ((next_id, True),), cycle.align), []))
+        out.append((Cycle(sides[j:] + sides[:i] + ((next_id, False),), cycle.align), []))
+        next_id += 1
+    return out, divisions
+
+
+def side_strokes(graph: StrokeGraph, edge_ids) -> list:
+    """The input strokes of graph edges, in order; a curve drawn across a divided loop (an id past
+    the graph's edges, ObjectBuild.divisions) has none and is left out."""
+    return [graph.edges[e].stroke for e in edge_ids if e < len(graph.edges)]
 
 
 def _curves_key(cycle: Cycle, tangents: dict) -> bytes:
@@ -652,8 +692,8 @@ def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list
     inside: dict = {}
     rejected: dict = {}
     for k, surf in enumerate(surfaces):
-        for e in surf.sides:
-            bounds.setdefault(graph.edges[e].stroke, set()).add(k)
+        for stroke in side_strokes(graph, surf.sides):
+            bounds.setdefault(stroke, set()).add(k)
         n = len(surf.result.records) - len(surf.interior)
         for rec, e in zip(surf.result.records[n:], surf.interior):
             stroke = graph.edges[e].stroke

@@ -525,3 +525,47 @@ def test_the_summary_names_every_folding_surface_and_the_strokes_that_bound_it()
     assert 4 in sides                               # the far side that swings back
     fine = build_object_and_measure(_far_side_strokes(20.0))
     assert " folds: " not in object_summary(object_report(fine, outputs={"step": "x.step"}))
+
+
+def _wavy_star(seed: int) -> tuple:
+    """A loop of 5-8 straight-in-plan strokes round a star-shaped polygon (random radii), lying on
+    the wavy surface z = 40 sin(x/40) cos(y/50): (strokes, that surface's height function)."""
+    def height(x, y):
+        return 40 * np.sin(x / 40.0) * np.cos(y / 50.0)
+    rng = np.random.default_rng(seed)
+    n = rng.integers(5, 9)
+    ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+    r = rng.uniform(30, 100, n)
+    xy = np.c_[r * np.cos(ang), r * np.sin(ang)] + rng.uniform(-20, 20, 2)
+    strokes = []
+    for k in range(n):
+        t = np.linspace(0, 1, 25)[:, None]
+        p = xy[k] + t * (xy[(k + 1) % n] - xy[k])
+        strokes.append(np.c_[p, height(p[:, 0], p[:, 1])])
+    return strokes, height
+
+
+def test_a_many_sided_loop_whose_patch_folds_whatever_its_corners_is_divided_in_two():
+    """A 7-sided star-shaped loop on a wavy surface: one Coons patch turns over (125 deg with the
+    best corners loop_corners finds, faces up to 18 mm off the surface); divided by a curve across
+    it (core.loop_split), its two surfaces fold nowhere, share that curve in one valid shell and
+    lie within 2 mm of the surface the strokes were drawn on. The report and the summary say so."""
+    from ProgSurf.app.objects import object_summary
+
+    strokes, height = _wavy_star(31)
+    assert len(strokes) == 7
+    out = build_object_and_measure(strokes)
+    assert len(out.build.choice.cycles) == 1 and len(out.build.surfaces) == 2
+    (curve, sides, whole, worse), = out.build.divisions
+    assert sorted(sides) == list(range(7)) and whole > 90 and worse < 85
+    assert all(curve in s.sides for s in out.build.surfaces)
+    assert not any(out.folds) and out.problems == []
+    (shell,) = out.shells
+    assert shell["valid"] and shell["shared_edges"] == 1 and shell["free_edges"] == 7
+    pts = face_points(out.shape, 9)
+    assert np.abs(pts[:, 2] - height(pts[:, 0], pts[:, 1])).max() < 2.0
+    report = object_report(out, outputs={"step": "x.step"})
+    assert report["divided_loops"][0]["surfaces"] == [0, 1]
+    assert all(sorted(s["side_strokes"]) != list(range(7)) for s in report["surfaces"])      # each part a few
+    assert "divided by a curve across it into surfaces [0, 1]" in object_summary(report)
+    assert all(r.used and r.boundary_of for r in out.build.roles)

@@ -94,9 +94,25 @@ def test_real_sketch_network_makes_surfaces_and_accounts_for_every_stroke(path):
     assert max(uses.values()) <= 2
     # no surface's loop passes through one node twice (it crosses itself in its surface: on the
     # CASSIE sketches 02-0-2, 10-2-1, teapot and vintage_car every such loop turned its patch over)
+    # (a curve drawn across a divided loop, core.loop_split, is no graph edge: it starts where the
+    # side before it ends, and ends where the side after it starts)
+    edges = build.graph.edges
     for surf in build.surfaces:
-        starts = [build.graph.edges[e].node1 if rev else build.graph.edges[e].node0 for e, rev in surf.cycle.sides]
-        assert len(set(starts)) == len(starts), surf.cycle.sides
+        sides = surf.cycle.sides
+        ends = [None if e >= len(edges) else (edges[e].node1, edges[e].node0) if rev
+                else (edges[e].node0, edges[e].node1) for e, rev in sides]
+        for k, pair in enumerate(ends):
+            if pair is None:
+                ends[k] = (ends[k - 1][1], ends[(k + 1) % len(ends)][0])
+        assert all(ends[k][1] == ends[(k + 1) % len(ends)][0] for k in range(len(ends))), sides
+        starts = [a for a, _ in ends]
+        assert len(set(starts)) == len(starts), sides
+    # each curve across lies between two nodes of its loop, in the graph's nodes exactly
+    for curve, *_ in build.divisions:
+        across = build.polylines[curve]
+        points = np.array([n.point for n in build.graph.nodes])
+        assert sum(1 for s in build.surfaces if curve in s.sides) == 2
+        assert min(np.linalg.norm(points - across[0], axis=1)) < build.graph.delta
 
 
 SMALL = DATA / "cassie" / "04-1-1.xyz"
