@@ -46,6 +46,9 @@ RESULTS = (
     ("App::PropertyIntegerList", "FaceSurfaces", "Per face of the Shape: the surface it belongs to"),
     ("App::PropertyStringList", "FailedLoops",
      "Loops of curves that made no surface: their strokes' indices and why"),
+    ("App::PropertyStringList", "DividedLoops",
+     "Loops whose one patch folded, divided by a curve across them into two surfaces: their strokes' "
+     "indices, the two surfaces, how far the patch turned and its parts"),
     ("App::PropertyFloat", "SeamGap", "Largest gap between two faces of a shell (mm)"),
     ("App::PropertyFloat", "FitDeviation", "Largest distance of a surface from its Coons sub-patches (mm)"),
     ("App::PropertyString", "LastError", "Why the last recompute failed (empty when it worked)"),
@@ -169,6 +172,10 @@ def write_results(obj, outcome) -> None:
     obj.SurfaceInteriors = [users(k, "interior_to") for k in range(len(build.surfaces))]
     obj.FaceSurfaces = list(outcome.model.face_owner)
     obj.FailedLoops = [f"{indices(c.edge_ids)}: {reason}" for c, reason in build.failed]
+    obj.DividedLoops = [f"{' '.join(str(i) for i in sorted(set(loop)))}: divided by a curve across it into surfaces "
+                        f"{' '.join(str(k) for k, s in enumerate(build.surfaces) if curve in s.sides)} (one patch "
+                        f"turned {whole:.0f} deg inside it, its parts {worse:.0f} deg at most)"
+                        for curve, loop, whole, worse in build.divisions]
     obj.SeamGap = max((s["seam_gap_max_mm"] for s in outcome.shells), default=0.0)
     obj.FitDeviation = max(outcome.fit_deviation_mm, default=0.0)
     obj.Quality = outcome.verdict()

@@ -116,6 +116,7 @@ class TestCubeNetwork(NetworkTestCase):
         report = network_report(net)
         self.assertEqual(report["strokes_used"], 12)
         self.assertEqual(report["faces"], 6)
+        self.assertEqual(list(net.DividedLoops), [])
 
     def test_moving_a_stroke_recomputes_the_shell_and_undo_restores_it(self):
         net = self.net
@@ -195,6 +196,27 @@ class TestCubeNetwork(NetworkTestCase):
         self.assertAlmostEqual(net.Shape.Area, area, delta=1e-4 * area)
         self.assertEqual(list(net.SurfaceBoundaries), boundaries)
         self.assertEqual(list(net.StrokeAccounting), accounting)
+
+
+class TestDividedLoop(DocTestCase):
+    """A 7-sided star-shaped loop on a wavy surface whose one patch folds (tests/core/test_objects.py
+    _wavy_star): the network object builds it as two surfaces sharing a curve across it, says so in
+    DividedLoops, and each of the seven strokes bounds one of them."""
+
+    def test_the_object_names_the_division_and_every_stroke_bounds_a_part(self):
+        sys.path.insert(0, str(ROOT / "tests" / "core"))
+        from test_objects import _wavy_star
+
+        strokes, _ = _wavy_star(31)
+        made = [ps.make_stroke_from_points(p, name="Star", doc=self.doc, recompute=False) for p in strokes]
+        net = ps.make_surface_network(doc=self.doc)
+        self.doc.recompute()
+        self.assertRecomputed(net, *made)
+        self.assertEqual((net.SurfaceCount, len(net.Shape.Faces), net.ShellCount), (2, 2, 1))
+        self.assertTrue(net.Quality.startswith("quality: ok"), net.Quality)
+        (line,) = net.DividedLoops
+        self.assertTrue(line.startswith("0 1 2 3 4 5 6: divided by a curve across it into surfaces 0 1"), line)
+        self.assertEqual(sorted(i for b in net.SurfaceBoundaries for i in map(int, b.split())), list(range(7)))
 
 
 if __name__ == "__main__":
