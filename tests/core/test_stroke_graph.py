@@ -580,6 +580,23 @@ def test_a_strip_round_a_lip_bounds_its_surfaces():
     assert {frozenset(g.edges[e].stroke for e, _ in c.sides) for c, _ in choice.dropped} == {frozenset({0}), frozenset({3})}
 
 
+def _cone_rulings(tip, delta):
+    """A cone's rim (radius 50 at z = 0) and five of its six rulings, drawn to within delta of its
+    tip (over or short); and the sixth's foot, its unit direction to the tip and the unit vector
+    across it along the rim."""
+    th = np.linspace(0, 2 * np.pi, 200)
+    rulings = []
+    for k, over in enumerate([-0.8, 0.6, -0.5, 0.9, -0.4]):
+        a = 2 * np.pi * k / 6 + 0.3
+        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
+    a = 2 * np.pi * 5 / 6 + 0.3
+    foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
+    g = (tip - foot) / np.linalg.norm(tip - foot)
+    side = np.cross(g, [0.0, 0.0, 1.0])
+    return [np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, foot, g, side / np.linalg.norm(side)
+
+
 def test_an_end_that_stopped_short_of_a_meeting_heading_its_way_joins_it():
     """A cone whose five rulings reach its tip (within delta) and whose sixth stops 2.6 delta short
     of it, heading 35 deg off it (a body's guide curving into its tip: its line misses the tip by
@@ -588,26 +605,15 @@ def test_an_end_that_stopped_short_of_a_meeting_heading_its_way_joins_it():
     stroke stopped as short but heading 60 deg off does not join the tip."""
     delta = 5.0
     tip = np.array([0.0, 0.0, 100.0])
-    th = np.linspace(0, 2 * np.pi, 200)
 
     def sketch(off_deg):
-        rulings = []
-        for k, over in enumerate([-0.8, 0.6, -0.5, 0.9, -0.4]):
-            a = 2 * np.pi * k / 6 + 0.3
-            foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
-            rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
-        a = 2 * np.pi * 5 / 6 + 0.3
-        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
-        g = (tip - foot) / np.linalg.norm(tip - foot)
-        side = np.cross(g, [0.0, 0.0, 1.0])
-        side /= np.linalg.norm(side)
+        drawn, foot, g, side = _cone_rulings(tip, delta)
         t = np.radians(off_deg)
         # the end 2.6 delta short of the tip, its direction (from the foot) off the tip by about t
         end = tip - 2.6 * delta * (np.cos(t) * g + np.sin(t) * side)
-        rulings.append(line(foot, end, 40))
         d = (end - foot) / np.linalg.norm(end - foot)
         angle = np.degrees(np.arccos(d @ (tip - end) / np.linalg.norm(tip - end)))
-        return [np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, angle
+        return drawn + [line(foot, end, 40)], angle
 
     strokes, angle = sketch(38.0)
     assert 30.0 < angle < 45.0
@@ -820,22 +826,12 @@ def test_an_end_that_stopped_short_of_a_meeting_with_a_flick_at_its_end_joins_it
     last delta, left dangling; two loops beside it made one)."""
     delta = 5.0
     tip = np.array([0.0, 0.0, 100.0])
-    th = np.linspace(0, 2 * np.pi, 200)
-    rulings = []
-    for k, over in enumerate([-0.8, 0.6, -0.5, 0.9, -0.4]):
-        a = 2 * np.pi * k / 6 + 0.3
-        foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
-        rulings.append(line(foot, tip + over * delta * (tip - foot) / np.linalg.norm(tip - foot), 40))
-    a = 2 * np.pi * 5 / 6 + 0.3
-    foot = np.array([50 * np.cos(a), 50 * np.sin(a), 0.0])
-    g_dir = (tip - foot) / np.linalg.norm(tip - foot)
-    side = np.cross(g_dir, [0.0, 0.0, 1.0])
-    side /= np.linalg.norm(side)
+    drawn, foot, g_dir, side = _cone_rulings(tip, delta)
     lift = np.cross(side, g_dir)                  # off the cone's surface, away from the other rulings
     bend = tip - 2.9 * delta * g_dir
     t = np.radians(70.0)
     flick = bend + 0.8 * delta * (np.cos(t) * g_dir + np.sin(t) * lift)
-    rulings.append(np.vstack([line(foot, bend, 40), line(bend, flick, 5)[1:]]))
+    rulings = drawn + [np.vstack([line(foot, bend, 40), line(bend, flick, 5)[1:]])]
     from ProgSurf.core.stroke_joins import LATE_DEG, end_direction
     from ProgSurf.core.strokes import cumulative_length
     last = rulings[-1]
@@ -844,7 +840,7 @@ def test_an_end_that_stopped_short_of_a_meeting_with_a_flick_at_its_end_joins_it
         d = end_direction(last, cum, float(cum[-1]), reach)
         to_tip = (tip - last[-1]) / np.linalg.norm(tip - last[-1])
         assert (np.degrees(np.arccos(d @ to_tip)) > LATE_DEG) == off, reach
-    g = build_stroke_graph([np.c_[50 * np.cos(th), 50 * np.sin(th), 0 * th]] + rulings, delta)
+    g = build_stroke_graph(rulings, delta)
     near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 4 * delta]
     assert len(near) == 1 and g.degree(near[0].id) == 6, [(n.kind, n.point) for n in near]
     assert not [n for n in g.nodes if n.kind == "end"]
