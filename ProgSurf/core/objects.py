@@ -574,7 +574,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
             uses[e] = uses.get(e, 0) + 1
     polylines = dict(polylines)
     loops, divisions = _divided(graph, [(c, interior.get(k, [])) for k, c in enumerate(choice.cycles)],
-                                polylines, uses)
+                                polylines, uses, cache)
     for cycle, inside in loops:
         # a side no other surface shares may get a corner in its middle (loop_corners)
         sides, own = _split_few_sides(cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides],
@@ -602,18 +602,25 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
                        tol, timings, polylines, tangents, tuple(divisions))
 
 
-def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict) -> tuple[list, list]:
+def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
+             cache: Optional[BuildCache] = None) -> tuple[list, list]:
     """The (cycle, interior edge ids) to build: each loop of loop_split.MIN_SIDES or more sides,
     with no stroke inside it, whose patch folds whatever its corners, divided in two by a curve
     across it where neither part folds (loop_split.best_division). The curves are added to
     polylines (ids from len(graph.edges) on) and counted in uses (twice: each bounds both
-    parts); returns (the loops, the divisions: ObjectBuild.divisions)."""
+    parts); returns (the loops, the divisions: ObjectBuild.divisions). A loop's division (or
+    none) is kept in the cache by its sides' points: an edit elsewhere does not screen it again."""
     out, divisions = [], []
     next_id = len(graph.edges)
     for cycle, inside in loops:
         found = None
         if not inside and len(cycle.sides) >= MIN_SIDES:
-            found = best_division(cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides])
+            sides, own = cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides]
+            key = (content_key(*sides), tuple(own))
+            kept = cache.lookup("division", key) if cache is not None else None
+            found = kept[0] if kept is not None else best_division(sides, own)
+            if cache is not None:
+                cache.store("division", key, (found,))
         if found is None:
             out.append((cycle, inside))
             continue

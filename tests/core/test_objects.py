@@ -569,3 +569,29 @@ def test_a_many_sided_loop_whose_patch_folds_whatever_its_corners_is_divided_in_
     assert all(sorted(s["side_strokes"]) != list(range(7)) for s in report["surfaces"])      # each part a few
     assert "divided by a curve across it into surfaces [0, 1]" in object_summary(report)
     assert all(r.used and r.boundary_of for r in out.build.roles)
+
+
+def test_a_divided_loop_is_not_screened_again_when_a_stroke_is_added_elsewhere(monkeypatch):
+    """With a BuildCache (the network object's), a loop's division is found once: a stroke added
+    away from the star (another loop of the sketch, a square 300 mm off) screens the square and
+    not the star again, and the star's division, curve and surfaces are those of the first build."""
+    import ProgSurf.core.objects as objects
+    from ProgSurf.core.objects import BuildCache
+
+    calls = []
+    real = objects.best_division
+    monkeypatch.setattr(objects, "best_division", lambda sides, own: calls.append(len(sides)) or real(sides, own))
+    strokes, _ = _wavy_star(31)
+    cache = BuildCache()
+    first = build_object(strokes, cache=cache)
+    assert calls == [7]
+    square = [line([300, 0, 0], [400, 0, 0]), line([400, 0, 0], [400, 100, 0]),
+              line([400, 100, 0], [300, 100, 0]), line([300, 100, 0], [300, 0, 0])]
+    calls.clear()
+    second = build_object(strokes + square, tol=first.tol, cache=cache)     # (the star's tolerances kept)
+    assert calls == []                          # the square has 4 sides: never screened
+    assert len(second.surfaces) == 3 and len(second.divisions) == 1
+    (c1, s1, w1, p1), (c2, s2, w2, p2) = first.divisions[0], second.divisions[0]
+    assert (s1, w1, p1) == (s2, w2, p2)
+    np.testing.assert_array_equal(first.polylines[c1], second.polylines[c2])
+    assert sum(s.reused for s in second.surfaces) == 2
