@@ -173,7 +173,7 @@ def write_results(obj, outcome) -> None:
     obj.FaceSurfaces = list(outcome.model.face_owner)
     obj.FailedLoops = [f"{indices(c.edge_ids)}: {reason}" for c, reason in build.failed]
     obj.DividedLoops = [f"{' '.join(str(i) for i in sorted(set(loop)))}: divided by a curve across it into surfaces "
-                        f"{' '.join(str(k) for k, s in enumerate(build.surfaces) if curve in s.sides)} (one patch "
+                        f"{' '.join(str(k) for k in build.surfaces_along(curve))} (one patch "
                         f"turned {whole:.0f} deg inside it, its parts {worse:.0f} deg at most)"
                         for curve, loop, whole, worse in build.divisions]
     obj.SeamGap = max((s["seam_gap_max_mm"] for s in outcome.shells), default=0.0)

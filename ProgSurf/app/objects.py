@@ -234,7 +234,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         "failed_loops": [{"side_strokes": side_strokes(graph, [e for e, _ in c.sides]), "reason": r}
                          for c, r in build.failed],
         "divided_loops": [{"side_strokes": strokes_of, "turn_deg": whole, "parts_turn_deg": worse,
-                           "surfaces": [k for k, surf in enumerate(build.surfaces) if curve in surf.sides]}
+                           "surfaces": build.surfaces_along(curve)}
                           for curve, strokes_of, whole, worse in build.divisions],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
         # the single surface's headline measures, over the whole object: the largest fit deviation
@@ -251,6 +251,11 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         "timings_s": dict(timings_s or outcome.timings_s)})
 
 
+def _once(strokes) -> list:
+    """Stroke indices in order, each once (a stroke in several pieces of a loop)."""
+    return list(dict.fromkeys(strokes))
+
+
 def _problem_lines(report: Mapping) -> list:
     """One line per surface the checks found folding, with the strokes that bound it (the verdict
     names the worst alone: vintage_car's "11 fold(s) inside surfaces (surface 36: ...)" left the
@@ -262,10 +267,8 @@ def _problem_lines(report: Mapping) -> list:
             continue
         worst = max(found, key=lambda f: f["angle_deg"])
         where = "its normal turns over inside it" if worst["kind"] == "face" else "two of its faces fold along a seam"
-        inner = (f", strokes {list(dict.fromkeys(surf['interior_strokes']))} inside it"
-                 if surf.get("interior_strokes") else "")
-        sides = list(dict.fromkeys(surf["side_strokes"]))        # a stroke in several pieces once
-        out.append(f"  surface {surf['surface']} (bounded by strokes {sides}{inner}) folds: "
+        inner = f", strokes {_once(surf['interior_strokes'])} inside it" if surf.get("interior_strokes") else ""
+        out.append(f"  surface {surf['surface']} (bounded by strokes {_once(surf['side_strokes'])}{inner}) folds: "
                    f"{where}, {worst['angle_deg']:.0f} deg")
     for f in report.get("folds_across_surfaces") or []:
         a, b = f["surfaces"]
@@ -293,7 +296,7 @@ def object_summary(report: Mapping) -> str:
                      f"{across['sharp_sides']} along curves drawn sharp, left G0")
     lines += [f"  stroke {s['index']} unused: {s['reason']}" for s in report["strokes"] if not s["used"]]
     lines += [f"  loop of strokes {f['side_strokes']} made no surface: {f['reason']}" for f in report["failed_loops"]]
-    lines += [f"  loop of strokes {list(dict.fromkeys(d['side_strokes']))} divided by a curve across it into "
+    lines += [f"  loop of strokes {_once(d['side_strokes'])} divided by a curve across it into "
               f"surfaces {d['surfaces']}: one patch turned {d['turn_deg']:.0f} deg inside it, its parts "
               f"{d['parts_turn_deg']:.0f} deg at most" for d in report.get("divided_loops") or []]
     lines += _problem_lines(report)

@@ -16,9 +16,9 @@ ways to divide the loop (every pair of nodes with two sides or more on each part
 on the two parts' paper corners on a coarse grid, the best SHORTLIST measured with the corners
 loop_corners would choose, and the division whose worse part turns least is taken when neither
 part folds (turns at most loop_corners.FOLD_DEG) and it turns at least loop_corners.GAIN_DEG less
-than the whole (a loop just over FOLD_DEG is not given a curve nobody drew for 3 deg): a division whose parts fold too made faces that
-the shell could not be sewn from (CASSIE 04-1-1: a 9-sided loop turned 178 deg, its parts 167,
-two shells invalid).
+than the whole (a loop just over FOLD_DEG is not given a curve nobody drew for 3 deg): a division
+whose parts fold too made faces that the shell could not be sewn from (CASSIE 04-1-1: a 9-sided
+loop turned 178 deg, its parts 167, two shells invalid).
 """
 from __future__ import annotations
 
@@ -27,6 +27,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from .continuity import hermite_basis, unit
 from .folds import TUCK_REACH
 from .loop_corners import COARSE_SAMPLES, FOLD_DEG, GAIN_DEG, choose_sides, default_sides, patch_turns_deg
 from .strokes import cumulative_length
@@ -45,16 +46,11 @@ TANGENT_SHARE = 0.1
 """A side's direction at a node is that of its chord to the point this share of its length along."""
 
 
-def _unit(v: FloatArray) -> FloatArray:
-    size = float(np.linalg.norm(v))
-    return v / size if size > 0 else v
-
-
 def _leaving(side: FloatArray) -> FloatArray:
     """The direction a side leaves its first point in (over TANGENT_SHARE of its length)."""
     cum = cumulative_length(side)
     k = min(max(1, int(np.searchsorted(cum, TANGENT_SHARE * cum[-1]))), len(side) - 1)
-    return _unit(side[k] - side[0])
+    return unit(side[k] - side[0])
 
 
 def _towards(sides: Sequence[FloatArray], k: int, target: FloatArray) -> FloatArray:
@@ -64,9 +60,9 @@ def _towards(sides: Sequence[FloatArray], k: int, target: FloatArray) -> FloatAr
     normal = np.cross(_leaving(sides[k - 1][::-1]), _leaving(sides[k]))
     d = np.asarray(target, dtype=float) - here
     if np.linalg.norm(normal) > 1e-6:
-        normal = _unit(normal)
+        normal = unit(normal)
         d = d - float(d @ normal) * normal
-    return _unit(d)
+    return unit(d)
 
 
 def chord(sides: Sequence[FloatArray], i: int, j: int, n: int = CHORD_POINTS) -> FloatArray:
@@ -76,9 +72,7 @@ def chord(sides: Sequence[FloatArray], i: int, j: int, n: int = CHORD_POINTS) ->
     length = float(np.linalg.norm(q - p))
     t0 = _towards(sides, i, q) * length
     t1 = -_towards(sides, j, p) * length
-    s = np.linspace(0.0, 1.0, n)[:, None]
-    out = ((2 * s ** 3 - 3 * s ** 2 + 1) * p + (s ** 3 - 2 * s ** 2 + s) * t0
-           + (-2 * s ** 3 + 3 * s ** 2) * q + (s ** 3 - s ** 2) * t1)
+    out = hermite_basis(np.linspace(0.0, 1.0, n)) @ np.array([p, t0, t1, q])
     out[0], out[-1] = p, q                       # the nodes exactly
     return out
 
@@ -118,9 +112,8 @@ def best_division(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = N
     whole = loop_turn_deg(sides, own)
     if whole <= FOLD_DEG:
         return None
+    # (each part keeps two sides or more: with the curve across, three)
     pairs = [(i, j) for i, j in itertools.combinations(range(n), 2) if j - i >= 2 and n - (j - i) >= 2]
-    if not pairs:
-        return None
     acrosses = {pair: chord(sides, *pair) for pair in pairs}
     parts = {pair: halves(sides, *pair, acrosses[pair]) for pair in pairs}
     firsts = [default_sides(part, None)[0] for pair in pairs for part in parts[pair]]
@@ -134,8 +127,7 @@ def best_division(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = N
         a, b = parts[pairs[k]]
         own_a = own[i:j] + [False]
         own_b = own[j:] + own[:i] + [False]
-        turn = max(loop_turn_deg(a, own_a) if len(a) >= 3 else 180.0,
-                   loop_turn_deg(b, own_b) if len(b) >= 3 else 180.0)
+        turn = max(loop_turn_deg(a, own_a), loop_turn_deg(b, own_b))
         if best is None or turn < best[4] - 1e-9:
             best = (i, j, acrosses[pairs[k]], whole, turn)
     if best is None or best[4] > min(FOLD_DEG, whole - GAIN_DEG):

@@ -153,6 +153,10 @@ class ObjectBuild:
     tangents: dict = field(default_factory=dict)
     divisions: tuple = ()
 
+    def surfaces_along(self, edge_id: int) -> list:
+        """Indices (into surfaces) of the surfaces a graph edge or a curve across (divisions) bounds."""
+        return [k for k, surf in enumerate(self.surfaces) if edge_id in surf.sides]
+
     @property
     def rebuilt(self) -> tuple:
         """Indices (into surfaces) of the surfaces this build made; the others came from a cache."""
