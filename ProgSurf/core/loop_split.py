@@ -82,10 +82,15 @@ def _reach(sides: Sequence[FloatArray]) -> float:
     return TUCK_REACH * float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
 
 
-def loop_turn_deg(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = None) -> float:
+_UNSET = object()
+
+
+def loop_turn_deg(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = None, chosen=_UNSET) -> float:
     """How far the base patch of a loop of 3 or more sides turns inside it with the corners it
-    gets: the paper's, or loop_corners.choose_sides's where those fold."""
-    chosen = choose_sides(sides, None, own)
+    gets: the paper's, or loop_corners.choose_sides's where those fold (`chosen`: what
+    choose_sides(sides, None, own) gave, if the caller has it already)."""
+    if chosen is _UNSET:
+        chosen = choose_sides(sides, None, own)
     if chosen is not None:
         return float(chosen[3])
     first, _ = default_sides(sides, None)
@@ -98,18 +103,20 @@ def halves(sides: Sequence[FloatArray], i: int, j: int, across: FloatArray) -> t
     return list(sides[i:j]) + [across[::-1]], list(sides[j:]) + list(sides[:i]) + [across]
 
 
-def best_division(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = None
+def best_division(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = None, chosen=_UNSET
                   ) -> Optional[tuple[int, int, FloatArray, float, float]]:
     """(i, j, the curve across from node i to node j, the whole loop's turn, the worse half's turn;
     deg) of the division of a loop that folds (module docstring), or None: the loop has fewer than
     MIN_SIDES sides, does not fold, or every division has a part that folds or gains less than
     GAIN_DEG. own: per side, whether no other
-    surface bounds itself by it (loop_corners: only there may a corner be put in a side's middle)."""
+    surface bounds itself by it (loop_corners: only there may a corner be put in a side's middle);
+    chosen: the whole loop's choose_sides(sides, None, own), if the caller has it (it builds the
+    loop undivided with those corners)."""
     n = len(sides)
     if n < MIN_SIDES:
         return None
     own = [True] * n if own is None else list(own)
-    whole = loop_turn_deg(sides, own)
+    whole = loop_turn_deg(sides, own, chosen)
     if whole <= FOLD_DEG:
         return None
     # (each part keeps two sides or more: with the curve across, three)
@@ -121,15 +128,21 @@ def best_division(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = N
     # one reach per batch: each part's own is what its check reads, so screen part by part size
     coarse = [float(patch_turns_deg([first], reach, COARSE_SAMPLES)[0]) for first, reach in zip(firsts, reaches)]
     worse = [max(coarse[2 * k], coarse[2 * k + 1]) for k in range(len(pairs))]
+    limit = min(FOLD_DEG, whole - GAIN_DEG)
     best = None
     for k in sorted(range(len(pairs)), key=lambda k: (worse[k], k))[:SHORTLIST]:
         i, j = pairs[k]
         a, b = parts[pairs[k]]
         own_a = own[i:j] + [False]
         own_b = own[j:] + own[:i] + [False]
-        turn = max(loop_turn_deg(a, own_a), loop_turn_deg(b, own_b))
-        if best is None or turn < best[4] - 1e-9:
+        # the part that screened worse first: a division is taken only if both parts turn at most
+        # `limit` and less than the best so far, so once one does not the other is not measured
+        first, second = ((a, own_a), (b, own_b)) if coarse[2 * k] >= coarse[2 * k + 1] else ((b, own_b), (a, own_a))
+        bound = limit if best is None else min(limit, best[4] - 1e-9)
+        turn = loop_turn_deg(*first)
+        if turn > bound:
+            continue
+        turn = max(turn, loop_turn_deg(*second))
+        if turn <= bound:
             best = (i, j, acrosses[pairs[k]], whole, turn)
-    if best is None or best[4] > min(FOLD_DEG, whole - GAIN_DEG):
-        return None
     return best

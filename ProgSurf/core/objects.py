@@ -432,11 +432,12 @@ def _split_few_sides(sides: list, flags: list, window_mm: float = 0.0) -> tuple[
     return sides, flags
 
 
-def _shaped_loop(sides: list, inner: list, own: list) -> tuple[list, BoundaryLoop]:
+def _shaped_loop(sides: list, inner: list, own: list, chosen=None) -> tuple[list, BoundaryLoop]:
     """A cycle's sides and its BoundaryLoop: the paper's corners (boundary_from_sides), or where
-    their base patch would fold, the corners loop_corners.choose_sides finds (a note says so)."""
+    their base patch would fold, the corners loop_corners.choose_sides finds (a note says so).
+    chosen: (what choose_sides gave,) for these sides, own and no inner strokes, if known."""
     ends = stroke_end_pairs(inner, range(len(inner))) if inner else None
-    chosen = choose_sides(sides, ends, own)
+    chosen = chosen[0] if chosen is not None else choose_sides(sides, ends, own)
     if chosen is None:
         return sides, boundary_from_sides(sides, list(range(len(sides))), inner)
     shaped, apex, before, after = chosen
@@ -577,9 +578,9 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
         for e, _ in cycle.sides:
             uses[e] = uses.get(e, 0) + 1
     polylines = dict(polylines)
-    loops, divisions = _divided(graph, [(c, interior.get(k, [])) for k, c in enumerate(choice.cycles)],
-                                polylines, uses, cache)
-    for cycle, inside in loops:
+    loops, divisions, screened = _divided(graph, [(c, interior.get(k, [])) for k, c in enumerate(choice.cycles)],
+                                          polylines, uses, cache)
+    for n, (cycle, inside) in enumerate(loops):
         # a side no other surface shares may get a corner in its middle (loop_corners)
         sides, own = _split_few_sides(cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides],
                                       tol.filter_mm or 0.0)
@@ -589,7 +590,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
         reused = done is not None
         if done is None:
             try:
-                shaped, loop = _shaped_loop(sides, inner, own)
+                shaped, loop = _shaped_loop(sides, inner, own, screened.get(n))
                 done = build_network(shaped + inner, boundary=list(range(len(shaped))), tol=inner_tol, loop=loop)
             except ProgSurfError as exc:
                 done = str(exc)
@@ -607,14 +608,16 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
 
 
 def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
-             cache: Optional[BuildCache] = None) -> tuple[list, list]:
+             cache: Optional[BuildCache] = None) -> tuple[list, list, dict]:
     """The (cycle, interior edge ids) to build: each loop of loop_split.MIN_SIDES or more sides,
     with no stroke inside it, whose patch folds whatever its corners, divided in two by a curve
     across it where neither part folds (loop_split.best_division). The curves are added to
     polylines (ids from len(graph.edges) on) and counted in uses (twice: each bounds both
-    parts); returns (the loops, the divisions: ObjectBuild.divisions). A loop's division (or
-    none) is kept in the cache by its sides' points: an edit elsewhere does not screen it again."""
-    out, divisions = [], []
+    parts); returns (the loops, the divisions: ObjectBuild.divisions, {index in the loops: (the
+    corners choose_sides gave a loop screened whole and not divided,)}: its surface takes them and
+    does not choose again). A loop's division (or none) is kept in the cache by its sides' points:
+    an edit elsewhere does not screen it again."""
+    out, divisions, screened = [], [], {}
     next_id = len(graph.edges)
     for cycle, inside in loops:
         found = None
@@ -622,7 +625,13 @@ def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
             sides, own = cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides]
             key = (content_key(*sides), tuple(own))
             kept = cache.lookup("division", key) if cache is not None else None
-            found = kept[0] if kept is not None else best_division(sides, own)
+            if kept is not None:
+                found = kept[0]
+            else:
+                chosen = choose_sides(sides, None, own)
+                found = best_division(sides, own, chosen)
+                if found is None:
+                    screened[len(out)] = (chosen,)
             if cache is not None:
                 cache.store("division", key, (found,))
         if found is None:
@@ -636,7 +645,7 @@ def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
         out.append((Cycle(sides[i:j] + ((next_id, True),), cycle.align), []))
         out.append((Cycle(sides[j:] + sides[:i] + ((next_id, False),), cycle.align), []))
         next_id += 1
-    return out, divisions
+    return out, divisions, screened
 
 
 def side_strokes(graph: StrokeGraph, edge_ids) -> list:

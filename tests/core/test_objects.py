@@ -580,7 +580,8 @@ def test_a_divided_loop_is_not_screened_again_when_a_stroke_is_added_elsewhere(m
 
     calls = []
     real = objects.best_division
-    monkeypatch.setattr(objects, "best_division", lambda sides, own: calls.append(len(sides)) or real(sides, own))
+    monkeypatch.setattr(objects, "best_division",
+                        lambda sides, own, chosen: calls.append(len(sides)) or real(sides, own, chosen))
     strokes, _ = _wavy_star(31)
     cache = BuildCache()
     first = build_object(strokes, cache=cache)
@@ -595,3 +596,22 @@ def test_a_divided_loop_is_not_screened_again_when_a_stroke_is_added_elsewhere(m
     assert (s1, w1, p1) == (s2, w2, p2)
     np.testing.assert_array_equal(first.polylines[c1], second.polylines[c2])
     assert sum(s.reused for s in second.surfaces) == 2
+
+
+def test_a_loop_screened_for_division_is_not_given_corners_again(monkeypatch):
+    """A loop of five or more sides is screened whole for a division (loop_split.best_division
+    reads the corners choose_sides gives it); kept whole, its surface takes those corners and
+    choose_sides is not run on it a second time. A flat pentagon of five strokes: one call for
+    its five sides, and the surface built as before."""
+    import ProgSurf.core.loop_split as loop_split
+    import ProgSurf.core.objects as objects
+
+    calls = []
+    real = objects.choose_sides
+    for module in (objects, loop_split):
+        monkeypatch.setattr(module, "choose_sides", lambda sides, *a: calls.append(len(sides)) or real(sides, *a))
+    corners = [np.array([100 * np.cos(a), 100 * np.sin(a), 0.0]) for a in np.linspace(0, 2 * np.pi, 6)[:-1]]
+    strokes = [line(corners[k], corners[(k + 1) % 5]) for k in range(5)]
+    built = build_object(strokes)
+    assert calls == [5]
+    assert len(built.surfaces) == 1 and not built.divisions
