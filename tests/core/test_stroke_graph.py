@@ -844,3 +844,39 @@ def test_an_end_that_stopped_short_of_a_meeting_with_a_flick_at_its_end_joins_it
     near = [n for n in g.nodes if np.linalg.norm(n.point - tip) < 4 * delta]
     assert len(near) == 1 and g.degree(near[0].id) == 6, [(n.kind, n.point) for n in near]
     assert not [n for n in g.nodes if n.kind == "end"]
+
+
+def test_node_candidates_at_one_place_of_a_stroke_are_one_node():
+    """Two groups of node candidates that attach to one place of a stroke (its end, where its run
+    past a corner was cut back) are one node when within SAME_PLACE x delta of each other: else the
+    stroke ends in one of them only and the other's strokes lose it there. Further apart they stay
+    two nodes; attached at two places of the stroke they stay two as well."""
+    from ProgSurf.core.stroke_graph import SAME_PLACE, _one_place_one_node
+    from ProgSurf.core.stroke_nodes import NodeCandidates
+
+    delta = 1.0
+    keep = {0: [0.0, 10.0], 1: [0.0, 10.0], 2: [0.0, 10.0]}
+    for gap, place, nodes in ((1.07, 12.0, 1), (SAME_PLACE * 1.2, 12.0, 2), (1.07, 9.0, 2)):
+        cands = NodeCandidates()
+        cands.add(np.array([0.0, 0.0, 0.0]), [(0, 10.0), (1, 0.0)])
+        cands.add(np.array([gap, 0.0, 0.0]), [(0, place), (2, 0.0)])    # (past stroke 0's kept end at 12)
+        points, attach = _one_place_one_node([[0], [1]], cands, keep, [10.0, 10.0, 10.0], delta)
+        assert len(points) == nodes
+        if nodes == 1:
+            np.testing.assert_allclose(points[0], [gap / 2, 0.0, 0.0])
+            assert sorted(attach[0]) == [(0, 10.0), (0, 12.0), (1, 0.0), (2, 0.0)]
+
+
+def test_a_rough_box_whose_edge_drawn_in_two_strokes_ends_beside_a_corner_is_closed():
+    """The objects benchmark's rough box 25006: an edge drawn as two strokes ends on a node beside
+    the corner, made on a third edge's run past it that was cut back to the corner (1.07 delta
+    off). As two nodes, the edge dangled and the box had 4 of its 6 faces; as one, all 6."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    from benchmarks.objects import make_object
+    from ProgSurf.core.objects import build_object
+
+    built = build_object(make_object("box", 25006, rough=True).strokes)
+    assert len(built.surfaces) == 6 and not built.failed
+    assert all(node.kind != "end" for node in built.graph.nodes)
