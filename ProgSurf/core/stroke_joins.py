@@ -65,9 +65,15 @@ MEET_REACH = 6.0
 of one point are the evidence; a rough hand's guides stop 3-4 delta short of a body's tip, and one
 such end left out left it a dangling chain beside the tip, objects benchmark body_13011r)."""
 
+LATE_REACH = 4.0
+"""A stroke end that stopped short of a meeting of ends (MEET_ENDS), within this many delta of its
+point, ..."""
+
 LATE_DEG = 45.0
-"""A stroke end that stopped short of a meeting of ends (MEET_ENDS), within EXTEND x delta of its
-point, joins it when its direction (its last delta) points within this of the point."""
+"""... joins it when its direction (its last delta, or its last EXTEND_BACK x delta) points within
+this of the point. A rough hand's guides stop 3-4 delta short of a body's tip (MEET_REACH): at
+EXTEND (3) delta a guide 3.2 delta short, heading 32 deg off the tip, joined the guide beside it
+instead, and the tip's two nodes left a loop out (objects benchmark body_5009r)."""
 
 EXTEND_BACK = 2.0
 """An end whose direction over its last delta leads to no stroke (EXTEND, EXTEND_DEG) is tried
@@ -98,7 +104,7 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
     nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
     further than a hook is cut, HOOK and HOOK_FRACTION, is not one of them: the two halves of a
     curve drawn in two overlapping strokes, where a third ends). An end that stopped short of such a
-    point within EXTEND x delta, heading within LATE_DEG of it, joins it too. Strokes no longer
+    point within LATE_REACH x delta, heading within LATE_DEG of it, joins it too. Strokes no longer
     than 4 EXTEND x delta and closed ones take no part. Returns the (stroke, end arc length) of the
     ends joined."""
     reach = EXTEND * delta
@@ -173,10 +179,10 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
             x = None
         if x is None or len(ks) < MEET_ENDS:
             continue
-        # an end that stopped short of the meeting, within reach of it and heading its way (within
+        # an end that stopped short of the meeting, within LATE_REACH of it and heading its way (within
         # LATE_DEG: a body's guide curves into its tip, so its line misses the tip by more than
         # delta) joins it too; left out, it dangled beside the tip and the loops there merged.
-        # (Such an end lies within 2 reach of the members' ends, so it is one of the group's.)
+        # (Such an end lies within 2 reach of a member's end to be one of the group's.)
         members = {ends[k][0] for k in ks}
         late = {}
         for k in group:
@@ -185,7 +191,7 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
                 continue
             to_x = x - p
             dist = float(np.linalg.norm(to_x))
-            if not delta < dist <= reach:
+            if not delta < dist <= LATE_REACH * delta:
                 continue
             # its direction over its last delta, or over EXTEND_BACK x delta (as an extension's):
             # a rough hand's last delta turns off by its jitter (objects body_23009r: a guide

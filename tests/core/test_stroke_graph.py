@@ -880,3 +880,21 @@ def test_a_rough_box_whose_edge_drawn_in_two_strokes_ends_beside_a_corner_is_clo
     built = build_object(make_object("box", 25006, rough=True).strokes)
     assert len(built.surfaces) == 6 and not built.failed
     assert all(node.kind != "end" for node in built.graph.nodes)
+
+
+def test_a_rough_body_guide_that_stopped_short_of_its_tip_joins_the_tip():
+    """The objects benchmark's rough body 5009: one of its four guides stops 3.2 delta short of
+    the bottom tip, heading 32 deg off it (within LATE_REACH and LATE_DEG). It joins the tip the
+    other three meet at: one tip node, 20 surfaces, no end node. (At 3 delta it joined the guide
+    beside it: two nodes at the tip, and a loop between them lost: 19.)"""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    from benchmarks.objects import make_object
+    from ProgSurf.core.objects import build_object
+
+    built = build_object(make_object("body", 5009, rough=True).strokes)
+    assert len(built.surfaces) == 20 and not built.failed
+    tips = [n for n in built.graph.nodes
+            if len({e.stroke for e in built.graph.edges if n.id in (e.node0, e.node1)}) == 4]
+    assert len(tips) == 2                       # the two tips, four guides each (a crossing has two strokes)
