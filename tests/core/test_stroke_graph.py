@@ -898,3 +898,46 @@ def test_a_rough_body_guide_that_stopped_short_of_its_tip_joins_the_tip():
     tips = [n for n in built.graph.nodes
             if len({e.stroke for e in built.graph.edges if n.id in (e.node0, e.node1)}) == 4]
     assert len(tips) == 2                       # the two tips, four guides each (a crossing has two strokes)
+
+
+def _flicked_rim(flicks, share=0.06, radius=50.0, delta=5.0):
+    """A rim (radius 50) drawn round with a gap of `share` of its length at its seam, its (start,
+    end) turned outward by flicks (deg) over its last delta: a rough hand's end."""
+    th = np.linspace(0.0, 2 * np.pi * (1.0 - share), 400)
+    rim = np.c_[radius * np.cos(th), radius * np.sin(th), 0 * th]
+    for end, flick in zip((0, 1), flicks):
+        pts = rim if end == 1 else rim[::-1]
+        cum = np.r_[0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        k = int(np.searchsorted(cum, cum[-1] - delta))
+        tangent = (pts[-1] - pts[k]) / np.linalg.norm(pts[-1] - pts[k])
+        outward = pts[k] / np.linalg.norm(pts[k])
+        a = np.radians(flick)
+        d = np.cos(a) * tangent + np.sin(a) * outward
+        t = np.linspace(0.0, cum[-1] - cum[k], len(pts) - k)[:, None]
+        pts = np.vstack([pts[:k], pts[k] + t * d])
+        rim = pts if end == 1 else pts[::-1]
+    return rim
+
+
+def test_a_rim_with_one_end_flicked_off_its_gap_is_closed_but_not_one_with_both():
+    """A rim 6 % short of its seam (3.8 delta), drawn with one end turned 30 deg outward over its
+    last delta (as the rough objects' rims, body_5011r, body_25007r: an end 37-49 deg off the gap,
+    the other within 10): one end off by up to RING_SLACK_DEG past what a circle's end makes with
+    the gap is closed when the other is well aligned (the two together within twice it); both ends
+    so turned (a C drawn open) stay open."""
+    from ProgSurf.core.stroke_joins import RING_DEG, RING_SLACK_DEG, end_direction, bridged_ring
+    from ProgSurf.core.strokes import cumulative_length
+
+    delta = 5.0
+    one, both = _flicked_rim((0.0, 30.0)), _flicked_rim((30.0, 30.0))
+    cum = cumulative_length(one)
+    gap = one[0] - one[-1]
+    size = np.linalg.norm(gap)
+    allowed = RING_DEG + 180.0 * size / cum[-1]
+    off_end = np.degrees(np.arccos(end_direction(one, cum, cum[-1], delta) @ gap / size))
+    assert allowed < off_end <= allowed + RING_SLACK_DEG           # (the case the slack is for)
+    assert bridged_ring(one, delta) is not None
+    assert bridged_ring(both, delta) is None
+    rulings = [line([50 * np.cos(a), 50 * np.sin(a), -20], [50 * np.cos(a), 50 * np.sin(a), 20]) for a in (1.0, 4.0)]
+    g = build_stroke_graph([one] + rulings, delta)
+    assert not [n for n in g.nodes if n.kind == "end" and abs(n.point[2]) < 1]
