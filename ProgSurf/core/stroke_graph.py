@@ -63,6 +63,11 @@ one node (_one_place_one_node): a rough box's corner 1.07 delta apart (box_25006
 reach of an end's extension) CASSIE 02-0-2 lost three strokes and 04-1-1 one: nodes 1.7-2.6 delta
 apart on strokes drawn past each other are two corners of the sketch."""
 
+SAME_ARC = 0.5
+"""... or this many delta along it from its end (_one_place_one_node). Only from an end: two
+crossings 0.47 delta apart along a profile of TiGL's clean helicopter, 0.16 delta from its end,
+are two nodes (merged, it lost two surfaces)."""
+
 SIDE_GAP = 0.5
 """Two strokes that come no closer than this many delta, away from their ends, ..."""
 
@@ -481,7 +486,11 @@ def _one_place_one_node(groups: list, cands: NodeCandidates, keep_range: dict, l
     make one stroke end in both, and one of them lost it (the first mark at a place is kept): a
     box's edge drawn as two strokes ended on a T-node made beside the corner on a third edge whose
     run past the corner was cut back to it; that end dangled 1.07 delta from the corner, and the
-    box lost two of its faces (objects benchmark box_25006r)."""
+    box lost two of its faces (objects benchmark box_25006r). So are groups of which one attaches
+    to a stroke's kept end and the other within SAME_ARC x delta of it: a corner of three edges
+    whose ends all ran over or stopped short by a little was two nodes joined by a piece of one
+    edge 1 mm long, and the loops beside it were not found (box_25004r, box_9001r, box_9011r: 5 of
+    their 6 faces)."""
     points = [np.mean([cands.points[k] for k in ks], axis=0) for ks in groups]
     links = Links(len(groups))
     placed: dict = {}
@@ -494,9 +503,15 @@ def _one_place_one_node(groups: list, cands: NodeCandidates, keep_range: dict, l
                 placed.setdefault(i, []).append((min(max(s, lo), hi), g))
     for i, marks in placed.items():
         marks.sort()
+        lo, hi = keep_range[i]
+        tiny = 1e-9 * lengths[i]
         for (s0, g0), (s1, g1) in zip(marks[:-1], marks[1:]):
-            if (g0 != g1 and s1 - s0 <= 1e-9 * lengths[i]
-                    and np.linalg.norm(points[g0] - points[g1]) <= SAME_PLACE * delta):
+            if g0 == g1 or np.linalg.norm(points[g0] - points[g1]) > SAME_PLACE * delta:
+                continue
+            # one place; or one of them the stroke's (kept) end and the other within SAME_ARC x
+            # delta of it: the piece between them is a hook's (it would be removed as one)
+            at_end = s0 - lo <= tiny or hi - s1 <= tiny
+            if s1 - s0 <= tiny or (at_end and s1 - s0 <= SAME_ARC * delta):
                 links.join(g0, g1)
     node_points, node_attach = [], []
     for gs in links.groups():

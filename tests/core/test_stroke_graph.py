@@ -941,3 +941,37 @@ def test_a_rim_with_one_end_flicked_off_its_gap_is_closed_but_not_one_with_both(
     rulings = [line([50 * np.cos(a), 50 * np.sin(a), -20], [50 * np.cos(a), 50 * np.sin(a), 20]) for a in (1.0, 4.0)]
     g = build_stroke_graph([one] + rulings, delta)
     assert not [n for n in g.nodes if n.kind == "end" and abs(n.point[2]) < 1]
+
+
+def test_a_node_at_a_strokes_end_and_one_just_beside_it_are_one_node():
+    """A node at a stroke's (kept) end and another within SAME_ARC x delta along it (and within
+    SAME_PLACE x delta in space) are one node: the piece between them is a hook's. Further along,
+    or both away from the stroke's end (two crossings close together), they stay two."""
+    from ProgSurf.core.stroke_graph import SAME_ARC, _one_place_one_node
+    from ProgSurf.core.stroke_nodes import NodeCandidates
+
+    keep = {0: [0.0, 10.0], 1: [0.0, 10.0], 2: [0.0, 10.0]}
+    for a, b, nodes in ((10.0, 10.0 - 0.6 * SAME_ARC, 1), (10.0, 10.0 - 1.4 * SAME_ARC, 2),
+                        (5.0, 5.0 - 0.6 * SAME_ARC, 2)):
+        cands = NodeCandidates()
+        cands.add(np.array([0.0, 0.0, 0.0]), [(0, a), (1, 0.0)])
+        cands.add(np.array([1.0, 0.0, 0.0]), [(0, b), (2, 0.0)])
+        points, _ = _one_place_one_node([[0], [1]], cands, keep, [10.0, 10.0, 10.0], 1.0)
+        assert len(points) == nodes, (a, b)
+
+
+@pytest.mark.parametrize("seed", [25004, 9001, 9011])
+def test_rough_boxes_whose_corners_were_two_nodes_have_six_faces(seed):
+    """The objects benchmark's rough boxes 25004, 9001 and 9011: at one corner the three edges'
+    ends ran over or stopped short by a little, and the corner was two nodes 1.05-1.1 delta apart
+    joined by a piece of one edge 0.3-0.5 delta long; a loop beside it was not found (5 faces).
+    As one node, all 6 faces."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    from benchmarks.objects import make_object
+    from ProgSurf.core.objects import build_object
+
+    built = build_object(make_object("box", seed, rough=True).strokes)
+    assert len(built.surfaces) == 6 and not built.failed
+    assert len(built.graph.nodes) - len(built.graph.edges) + len(built.surfaces) == 2   # closed: V - E + F
