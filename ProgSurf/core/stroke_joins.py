@@ -104,13 +104,16 @@ class Boxes:
 
 
 def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: NodeCandidates,
-                  boxes: Boxes) -> set:
+                  boxes: Boxes, kept: dict | None = None) -> set:
     """Groups of MEET_ENDS or more stroke ends that meet at one point (MEET_ENDS): one node
     candidate each, at the point nearest to the ends' lines (each stroke attached at its place
     nearest that point: an end that ran over it is cut back there, a hook; one that ran over it
     further than a hook is cut, HOOK and HOOK_FRACTION, is not one of them: the two halves of a
     curve drawn in two overlapping strokes, where a third ends). An end that stopped short of such a
-    point within LATE_REACH x delta, heading within LATE_DEG of it, joins it too. Strokes no longer
+    point within LATE_REACH x delta, heading within LATE_DEG of it, joins it too, and so does one
+    that ran past it by up to LATE_REACH x delta, passing within CORNER_MISS x delta of it
+    (attached where it passes nearest, the rest cut away: kept, the strokes' kept arc lengths as
+    end_joins takes them, is trimmed). Strokes no longer
     than 4 EXTEND x delta and closed ones take no part. Returns the (stroke, end arc length) of the
     ends joined."""
     reach = EXTEND * delta
@@ -190,13 +193,25 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
         # delta) joins it too; left out, it dangled beside the tip and the loops there merged.
         # (Such an end lies within 2 reach of a member's end to be one of the group's.)
         members = {ends[k][0] for k in ks}
-        late = {}
+        late, over = {}, {}
         for k in group:
             i, s_end, p, d = ends[k]
-            if i in members or i in late:
+            if i in members or i in late or i in over:
                 continue
             to_x = x - p
             dist = float(np.linalg.norm(to_x))
+            if float(d @ to_x) < 0.0:
+                # an end that ran on past the meeting by up to LATE_REACH x delta (and HOOK_FRACTION
+                # of its stroke), the stroke passing within CORNER_MISS x delta of its point: it is
+                # attached where it passes nearest, the rest cut away (objects body_5002r: a guide 1.5 delta past its tip, 1.2
+                # delta beside it, its line 1.4 delta off, made a T-node beside the tip;
+                # body_29011r: a guide passing 0.2 delta from its tip ran 3 delta past it, a
+                # hook's length, onto the guide beside it)
+                off, s_near = nearest_on(x[None], strokes[i], cums[i])
+                if (off[0] <= CORNER_MISS * delta
+                        and abs(s_end - s_near[0]) <= min(LATE_REACH * delta, HOOK_FRACTION * float(cums[i][-1]))):
+                    over[i] = (s_end, float(s_near[0]))
+                continue
             if not delta < dist <= LATE_REACH * delta:
                 continue
             # its direction over its last delta, or over EXTEND_BACK x delta (as an extension's):
@@ -205,7 +220,7 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
             back = end_direction(strokes[i], cums[i], s_end, EXTEND_BACK * delta)
             if any(v is not None and float(v @ to_x) >= np.cos(np.radians(LATE_DEG)) * dist for v in (d, back)):
                 late[i] = s_end
-        if not late and max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
+        if not late and not over and max(float(np.linalg.norm(x - ends[k][2])) for k in ks) <= delta:
             continue        # (ends drawn to within delta of the point: they touch there, the other rules join them)
         attach = []
         for k in ks:
@@ -215,12 +230,20 @@ def _meeting_ends(strokes: list, cums: dict, live: list, delta: float, cands: No
         for i, s_end in late.items():
             attach.append((i, s_end))
             done.add((i, s_end))
+        for i, (s_end, s_near) in over.items():
+            attach.append((i, s_near))
+            done.add((i, s_end))
+            if kept is not None:        # (its run past the meeting cut away: left, it dangled
+                # into the loop at the tip as a stroke inside it and folded it, body_5010r)
+                kept[i][0 if s_end == 0.0 else 1] = (max(kept[i][0], s_near) if s_end == 0.0
+                                                     else min(kept[i][1], s_near))
         # the places where these strokes touch one another near the meeting (the crossings of ends
         # run over it, an end passing another) are that meeting: left to it alone (a second
         # candidate on one of their ends made a second node beside it, and a sliver between)
         place = dict(attach)
         end_of = {ends[k][0]: ends[k][1] for k in ks}
         end_of.update(late)
+        end_of.update({i: s_end for i, (s_end, _) in over.items()})
 
         def cut(i: int, sc: float) -> bool:
             """On stroke i's piece past the meeting: cut away."""
@@ -307,7 +330,7 @@ def end_joins(strokes: list, live: list, delta: float, cands: NodeCandidates, ke
     another stroke closes at that join: its other end joins there too. cums: stroke -> cumulative
     lengths (of every live stroke), boxes: the strokes' Boxes."""
     reach = PROXIMITY * delta
-    met = _meeting_ends(strokes, cums, live, delta, cands, boxes)
+    met = _meeting_ends(strokes, cums, live, delta, cands, boxes, keep)
     free = []
     for i in live:
         total = float(cums[i][-1])

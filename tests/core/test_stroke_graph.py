@@ -846,6 +846,29 @@ def test_an_end_that_stopped_short_of_a_meeting_with_a_flick_at_its_end_joins_it
     assert not [n for n in g.nodes if n.kind == "end"]
 
 
+@pytest.mark.parametrize("seed, surfaces", [(5002, 30), (29011, 15)])
+def test_a_rough_body_guide_that_ran_past_its_tip_joins_the_tip(seed, surfaces):
+    """The objects benchmark's rough bodies 5002 and 29011: a guide's end ran past the bottom tip
+    (1.5 and 3 delta), passing 1.2 and 0.2 delta beside it, its line further than delta off the
+    point the other guides meet at: it made a T-node on the guide beside the tip, and a loop at the
+    tip was lost (5002: an open shell of 27 of 30 surfaces) or split (29011: 16 surfaces for 15,
+    folding 112 deg, a crease of 173 deg). Joined to the tip where it passes nearest
+    (stroke_joins._meeting_ends, `over`), the body is whole and closed (29011's piece past the tip,
+    3 delta, a hair longer than a hook, stays a dangling piece)."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    from benchmarks.objects import make_object
+    from ProgSurf.core.objects import build_object
+
+    sketch = make_object("body", seed, rough=True)
+    built = build_object(sketch.strokes)
+    assert len(built.surfaces) == surfaces and not built.failed
+    ends = [n for n in built.graph.nodes if n.kind == "end"]
+    # closed: V - E + F = 2, a dangling piece (one node, one edge) aside
+    assert len(built.graph.nodes) - len(built.graph.edges) + len(built.surfaces) == 2 and len(ends) <= 1
+
+
 def test_node_candidates_at_one_place_of_a_stroke_are_one_node():
     """Two groups of node candidates that attach to one place of a stroke (its end, where its run
     past a corner was cut back) are one node when within SAME_PLACE x delta of each other: else the
