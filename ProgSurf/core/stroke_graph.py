@@ -68,6 +68,14 @@ SAME_ARC = 0.5
 crossings 0.47 delta apart along a profile of TiGL's clean helicopter, 0.16 delta from its end,
 are two nodes (merged, it lost two surfaces)."""
 
+SAME_ARC_ENDS = 1.0
+"""... or this many delta, at most a hook's share (HOOK_FRACTION) of the strokes there, when the
+node inside is made of stroke ends alone (no other stroke passes through it; _one_place_one_node):
+a rough box's corner was the end of one edge and, 0.54 delta along it, the T where a second edge's
+end met it (box_31009r). Two crossings (strokes passing through) 0.55 delta apart by a ring's seam
+on TiGL's fuselage are two nodes; so are the ends of a VR lamp's stroke 1.3 delta long between a
+corner and a T (10-2-1: merged, it and its neighbour were lost and a loop with them)."""
+
 SIDE_GAP = 0.5
 """Two strokes that come no closer than this many delta, away from their ends, ..."""
 
@@ -188,7 +196,8 @@ def _tail(stroke: FloatArray, close: np.ndarray, delta: float, others: list) -> 
     end (a guide drawn again from 7 delta short of its tip, the first stroke reaching it) or off
     it. Merged, that piece was lost; a run trim keeps it (_run_trim). A piece that runs along one
     of the `others` (OVERSKETCH_COVER of it within delta: a short stroke joining two halves of a
-    border) is no tail."""
+    border) is no tail. (A shorter piece that carries the curve on is spliced onto the other:
+    _carried_on.)"""
     if not close.any():
         return False
     cum = cumulative_length(stroke)
@@ -198,6 +207,60 @@ def _tail(stroke: FloatArray, close: np.ndarray, delta: float, others: list) -> 
         if length > hook and not any(np.mean(nearest_on(piece, o)[0] <= delta) >= OVERSKETCH_COVER for o in others):
             return True
     return False
+
+
+CARRY_DEG = 30.0
+"""An over-sketch's end piece that leaves the stroke it was merged into at that stroke's end and
+heads within this of the way that stroke ended carries it on (_carried_on)."""
+
+
+def _carried_on(longer: FloatArray, over: FloatArray, delta: float) -> tuple[FloatArray, list]:
+    """The longer stroke carried on by the end pieces of an over-sketch merged into it (within
+    delta of it along OVERSKETCH_COVER of its length) that leave it at one of its ends, longer than
+    delta, heading on the way it ended (within CARRY_DEG): [(at its start?, mm added)]. The
+    over-sketch reached further along the curve than the stroke it was drawn over; merged without
+    that piece, the curve stopped where the longer stroke did (a rough tube's ruling drawn in two
+    strokes dangled 4.2 delta short of its rim, its over-sketch reaching 1.9 delta of it,
+    tube_31004r; a body's guide 4.6 delta short of its tip, the over-sketch 2.8, body_33010r).
+    The piece is moved to start at the longer stroke's end, the move fading out along it, so that
+    it ends where it was drawn."""
+    added: list = []
+    for _ in range(2):
+        d, at = nearest_on(over, longer)
+        close = d <= delta
+        if not close.any():
+            break
+        cum = cumulative_length(longer)
+        total = float(cum[-1])
+        first, last = int(np.argmax(close)), len(close) - 1 - int(np.argmax(close[::-1]))
+        done = False
+        for piece in (over[:first + 1][::-1], over[last:]):
+            length = chord_length(piece)
+            if len(piece) < 2 or length <= delta:
+                continue
+            s = float(nearest_on(piece[:1], longer)[1][0])
+            for s_end in (0.0, total):
+                way = end_direction(longer, cum, s_end, delta)     # (outwards)
+                go = piece[-1] - piece[0]
+                size = float(np.linalg.norm(go))
+                if abs(s - s_end) > delta or way is None or size <= 0.0 \
+                        or float(go @ way) / size < np.cos(np.radians(CARRY_DEG)):
+                    continue
+                end = longer[0] if s_end == 0.0 else longer[-1]
+                beyond = piece[1:][np.asarray((piece[1:] - end) @ way > 0.0)]
+                if len(beyond) < 1:
+                    continue
+                w = cumulative_length(np.vstack([end, beyond]))[1:]
+                moved = beyond + (end - piece[0])[None] * (1.0 - w / w[-1])[:, None]
+                longer = np.vstack([moved[::-1], longer]) if s_end == 0.0 else np.vstack([longer, moved])
+                added.append((s_end == 0.0, float(w[-1])))
+                done = True
+                break
+            if done:
+                break
+        if not done:
+            break
+    return longer, added
 
 
 def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, trims: dict, cums: list,
@@ -356,6 +419,12 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
     merged = {j: i for j, i in merged.items() if j not in short and i not in short}
     for j, i in merged.items():
         notes[j] = f"merged into stroke {i} (drawn over it)"
+        arrays[i], added = _carried_on(arrays[i], arrays[j], delta)
+        for at_start, mm in added:
+            notes[j] += f"; it carries stroke {i} on {mm:.3g} mm past its {'start' if at_start else 'end'}"
+        if added:
+            cums[i] = cumulative_length(arrays[i])
+            lengths[i] = float(cums[i][-1])
     live = [i for i in range(len(arrays)) if i not in short and i not in merged]
 
     cands = NodeCandidates()
@@ -501,18 +570,38 @@ def _one_place_one_node(groups: list, cands: NodeCandidates, keep_range: dict, l
                     continue
                 lo, hi = keep_range[i]
                 placed.setdefault(i, []).append((min(max(s, lo), hi), g))
+    def ends_reach(g: int, along: int) -> float:
+        """How far along `along` from its end a node of group g may lie and be its end's node
+        (SAME_ARC_ENDS): 0 unless every other stroke g attaches to ends there (none passes
+        through); at most a hook's share (HOOK_FRACTION) of `along` and of each of them (a VR
+        car's stroke 1.3 delta long across the corner of two others, vintage_car's stroke 2, would
+        have moved by half its length)."""
+        ats = [(i, s) for k in groups[g] for i, s in cands.attach[k] if i in keep_range and i != along]
+        if not ats or any(keep_range[i][0] + 1e-9 * lengths[i] < s < keep_range[i][1] - 1e-9 * lengths[i]
+                          for i, s in ats):
+            return 0.0
+        kept = [keep_range[i][1] - keep_range[i][0] for i, _ in ats] + [keep_range[along][1] - keep_range[along][0]]
+        return min(SAME_ARC_ENDS * delta, HOOK_FRACTION * min(kept))
+
     for i, marks in placed.items():
         marks.sort()
         lo, hi = keep_range[i]
         tiny = 1e-9 * lengths[i]
         for (s0, g0), (s1, g1) in zip(marks[:-1], marks[1:]):
-            if g0 == g1 or np.linalg.norm(points[g0] - points[g1]) > SAME_PLACE * delta:
-                continue
-            # one place; or one of them the stroke's (kept) end and the other within SAME_ARC x
-            # delta of it: the piece between them is a hook's (it would be removed as one)
-            at_end = s0 - lo <= tiny or hi - s1 <= tiny
-            if s1 - s0 <= tiny or (at_end and s1 - s0 <= SAME_ARC * delta):
-                links.join(g0, g1)
+            if g0 != g1 and s1 - s0 <= tiny and np.linalg.norm(points[g0] - points[g1]) <= SAME_PLACE * delta:
+                links.join(g0, g1)      # one place
+        # one of them at the stroke's (kept) end and the other within SAME_ARC x delta of it: the
+        # piece between them is a hook's (it would be removed as one). By group, not by neighbouring
+        # marks: a group may attach at the end and again just inside it, beyond the other's mark
+        # (box_31009r: 24.4, 24.9 and 25.6 mm of a 25.6 mm edge, the last two one corner's)
+        for end, inside in ((lo, lambda s: s - lo), (hi, lambda s: hi - s)):
+            at_end = {g for s, g in marks if inside(s) <= tiny}
+            for s, g in marks:
+                if g in at_end or inside(s) > max(SAME_ARC * delta, ends_reach(g, i)):
+                    continue
+                for g_end in at_end:
+                    if np.linalg.norm(points[g] - points[g_end]) <= SAME_PLACE * delta:
+                        links.join(g, g_end)
     node_points, node_attach = [], []
     for gs in links.groups():
         ks = [k for g in gs for k in groups[g]]
