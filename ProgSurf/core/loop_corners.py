@@ -60,6 +60,17 @@ not taken where the paper corners' patch does not: a patch that bends far over b
 (a nacelle's lip, its sides U-shaped round it) reads as folding on the turn checks, and corners that
 turn less on them twisted it into a band folded along a line (TiGL full_nacelle)."""
 
+DENSE_SAMPLES = 33
+"""Samples per side of the grid (DENSE_INSET in from the sides) on which a patch's turn from its
+mean normal is read where a loop is judged (the paper corners' patch, the shortlisted choices):
+the built face's own check (cad.analysis.FOLD_DENSE). On the FACE_SAMPLES grid a tuck between its
+lines went unseen: CASSIE 10-2-1's surface 12 turned 69 deg there and 93 on this grid, and its
+built face was reported folding (92 deg) with the paper's corners kept; teapot's surface 43, 79
+and 94."""
+
+DENSE_INSET = 0.03
+"""... (cad.analysis._fold_grid's inset)."""
+
 MAX_TRIES = 400
 """At most this many corner choices per loop: with more places than that allows, only the
 loop's nodes are corner places (the sides' middles are left out)."""
@@ -86,14 +97,20 @@ def patch_turn_deg(sides: Sequence[FloatArray], reach: float, samples: int = FAC
 
 
 def patch_turns_deg(choices: Sequence[Sequence[FloatArray]], reach: float,
-                    samples: int = FACE_SAMPLES) -> list[float]:
+                    samples: int = FACE_SAMPLES, dense: bool = False) -> list[float]:
     """patch_turn_deg of several choices of sides at once (choose_sides screens hundreds). A side
     array met again (the same object, at the same place in a choice) is evaluated once. The
-    arithmetic is per patch, so one choice gives what it gives alone."""
+    arithmetic is per patch, so one choice gives what it gives alone. dense: the turn from the
+    mean normal is read on the DENSE_SAMPLES grid too (the built face's check reads it there)."""
     if not choices:
         return []
     points, normals, ok = _patch_frames(choices, *_face_samples(samples))
     turns = _turns_from_mean_deg(list(zip(normals, ok)))
+    if dense:
+        g = np.linspace(DENSE_INSET, 1.0 - DENSE_INSET, DENSE_SAMPLES)
+        s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+        _, fine, good = _patch_frames(choices, s, r)
+        turns = [max(a, b) for a, b in zip(turns, _turns_from_mean_deg(list(zip(fine, good))))]
     return [max(a, b) for a, b in zip(turns, tucks_deg(normals, ok, points, reach))]
 
 
@@ -232,7 +249,7 @@ def choose_sides(sides: Sequence[FloatArray], inside_ends: Optional[FloatArray] 
     # the tuck reach of the built surface's check: a share of the diagonal of its own faces
     reach = TUCK_REACH * float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
     first, _ = default_sides(sides, inside_ends)
-    base = patch_turn_deg(first, reach)
+    base = patch_turns_deg([first], reach, dense=True)[0]
     if base <= FOLD_DEG:
         return None
     own = [True] * len(sides) if own is None else list(own)
@@ -252,7 +269,7 @@ def choose_sides(sides: Sequence[FloatArray], inside_ends: Optional[FloatArray] 
     best = (base - GAIN_DEG, None, -1)
     short = sorted(range(len(tries)), key=lambda i: (coarse[i], i))[:SHORTLIST]
     shortlisted = [_cut(loop, tries[k][0], cuts) for k in short]
-    fine = patch_turns_deg(shortlisted, reach)
+    fine = patch_turns_deg(shortlisted, reach, dense=True)
     # no choice that folds along a line where the paper corners' patch only bends
     crease, *creases = patch_creases_deg([first] + shortlisted)
     for k, measured, folded in zip(short, fine, creases):

@@ -94,7 +94,7 @@ def loop_turn_deg(sides: Sequence[FloatArray], own: Optional[Sequence[bool]] = N
     if chosen is not None:
         return float(chosen[3])
     first, _ = default_sides(sides, None)
-    return float(patch_turns_deg([first], _reach(sides))[0])
+    return float(patch_turns_deg([first], _reach(sides), dense=True)[0])
 
 
 def halves(sides: Sequence[FloatArray], i: int, j: int, across: FloatArray) -> tuple[list, list]:

@@ -202,3 +202,46 @@ def test_a_lip_that_bends_right_over_keeps_its_corners_rather_than_fold_along_a_
     monkeypatch.setattr(loop_corners, "CREASE_DEG", float("inf"))
     other = choose_sides(sides)
     assert other is not None and patch_creases_deg([other[0]])[0] > CREASE_DEG
+
+
+def test_a_narrow_tuck_between_the_coarse_grids_lines_is_seen_on_the_dense_grid():
+    """A square loop whose bottom side dips in a narrow notch (2 mm wide, 20 deep, on a 1 m side):
+    its Coons patch carries the notch across as a narrow tuck. The FACE_SAMPLES grid's lines (every 12.5 %)
+    pass either side of it and read a patch that does not fold; the DENSE_SAMPLES grid, the built
+    face's check, reads the tuck's turn (choose_sides judges a loop's paper corners on it: CASSIE
+    10-2-1's surface 12 read 69 deg on the coarse grid, 93 on the dense, and its face was reported
+    folding at 92)."""
+    from ProgSurf.core.loop_corners import DENSE_SAMPLES, patch_turns_deg
+
+    t = np.linspace(0.0, 1.0, 4001)
+    notch = 20.0 * np.clip(1.0 - np.abs(t - 0.54) / 0.001, 0.0, None)      # 20 mm deep, 2 mm wide
+    bottom = np.c_[1000 * t, 0 * t, -notch]
+    right = np.c_[1000 + 0 * t, 1000 * t, 0 * t]
+    top = np.c_[1000 * (1 - t), 1000 + 0 * t, 0 * t]
+    left = np.c_[0 * t, 1000 * (1 - t), 0 * t]
+    sides = [bottom, right, top, left]
+    # (by arc length, as the patch maps its sides, the notch lies between 0.55 and 0.59 of the bottom)
+    cum = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(bottom, axis=0), axis=1))] / 1.0
+    lo, hi = cum[np.flatnonzero(notch)[[0, -1]]] / cum[-1]
+    assert 0.5 < lo < hi < 0.6
+    reach = 0.15 * np.linalg.norm([1000.0, 1000.0, 20.0])
+    coarse = patch_turns_deg([sides], reach)[0]
+    dense = patch_turns_deg([sides], reach, dense=True)[0]
+    assert DENSE_SAMPLES >= 33
+    assert coarse < FOLD_DEG < dense, (coarse, dense)
+
+
+@pytest.mark.skipif(not LAMP.is_file(), reason=f"shared sketch {LAMP} not found (../shared/data, absent from a user's clone)")
+def test_the_lamps_loop_with_a_narrow_tuck_gets_corners_that_do_not_fold():
+    """CASSIE 10-2-1's loop of strokes 49, 22, 14 and 21: with the paper's corners its patch tucks
+    narrowly (69 deg on the coarse grid, 93 on the dense), and kept, its built face folded (92 deg).
+    Judged on the dense grid, it gets other corners and its face does not fold."""
+    from ProgSurf.app.objects import build_object_and_measure
+    from ProgSurf.io.pointlist import read_point_list
+
+    out = build_object_and_measure(read_point_list(LAMP))
+    g = out.build.graph
+    found = [k for k, surf in enumerate(out.build.surfaces)
+             if sorted({g.edges[e].stroke for e, _ in surf.cycle.sides}) == [14, 21, 22, 49]]
+    assert len(found) == 1
+    assert not out.folds[found[0]]
