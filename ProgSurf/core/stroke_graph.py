@@ -251,6 +251,8 @@ def _carried_on(longer: FloatArray, over: FloatArray, delta: float) -> tuple[Flo
                 if len(beyond) < 1:
                     continue
                 w = cumulative_length(np.vstack([end, beyond]))[1:]
+                if not w[-1] > 0.0:
+                    continue
                 moved = beyond + (end - piece[0])[None] * (1.0 - w / w[-1])[:, None]
                 longer = np.vstack([moved[::-1], longer]) if s_end == 0.0 else np.vstack([longer, moved])
                 added.append((s_end == 0.0, float(w[-1])))
