@@ -609,11 +609,9 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
 
 def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
              cache: Optional[BuildCache] = None) -> tuple[list, list, dict]:
-    """The (cycle, interior edge ids) to build: each loop of loop_split.MIN_SIDES or more sides
-    whose patch folds whatever its corners, divided in two by a curve across it where neither part
-    folds (loop_split.best_division); the strokes inside it go to the part that holds more of each
-    (a stroke inside a loop whose base patch folds is added to a folded surface: vintage_car's two
-    loops of 8 sides, each with one stroke inside, folded 120 deg and were not divided). The curves are added to
+    """The (cycle, interior edge ids) to build: each loop of loop_split.MIN_SIDES or more sides,
+    with no stroke inside it, whose patch folds whatever its corners, divided in two by a curve
+    across it where neither part folds (loop_split.best_division). The curves are added to
     polylines (ids from len(graph.edges) on) and counted in uses (twice: each bounds both
     parts); returns (the loops, the divisions: ObjectBuild.divisions, {index in the loops: (the
     corners choose_sides gave a loop screened whole and not divided,)}: its surface takes them and
@@ -623,7 +621,7 @@ def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
     next_id = len(graph.edges)
     for cycle, inside in loops:
         found = None
-        if len(cycle.sides) >= MIN_SIDES:
+        if not inside and len(cycle.sides) >= MIN_SIDES:
             sides, own = cycle.polylines_from(polylines), [uses[e] == 1 for e, _ in cycle.sides]
             key = (content_key(*sides), tuple(own))
             kept = cache.lookup("division", key) if cache is not None else None
@@ -644,14 +642,8 @@ def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,
         uses[next_id] = 2
         divisions.append((next_id, side_strokes(graph, [e for e, _ in cycle.sides]), whole, worse))
         sides = tuple(cycle.sides)
-        parts = [Cycle(sides[i:j] + ((next_id, True),), cycle.align),
-                 Cycle(sides[j:] + sides[:i] + ((next_id, False),), cycle.align)]
-        # the strokes inside the loop go to the part that holds more of their points
-        held = [_Loop(np.vstack([p[:-1] for p in part.polylines_from(polylines)])) for part in parts]
-        given: list = [[], []]
-        for e in inside:
-            given[int(held[1].inside(polylines[e]) > held[0].inside(polylines[e]))].append(e)
-        out.extend(zip(parts, given))
+        out.append((Cycle(sides[i:j] + ((next_id, True),), cycle.align), []))
+        out.append((Cycle(sides[j:] + sides[:i] + ((next_id, False),), cycle.align), []))
         next_id += 1
     return out, divisions, screened
 

@@ -571,33 +571,6 @@ def test_a_many_sided_loop_whose_patch_folds_whatever_its_corners_is_divided_in_
     assert all(r.used and r.boundary_of for r in out.build.roles)
 
 
-def test_a_loop_that_folds_whatever_its_corners_is_divided_with_a_stroke_inside_it():
-    """The 7-sided star of the test above with a short stroke drawn inside it (on the wavy surface,
-    from near the middle towards a point of the star): the loop is divided all the same, and the
-    stroke goes to the part that holds it, as an interior stroke of that surface. Before, a loop
-    with a stroke inside was never divided, and its one surface folded (vintage_car: two loops of 8
-    sides, each with one stroke inside, 120 deg)."""
-    from ProgSurf.core.objects import _Loop
-
-    strokes, height = _wavy_star(31)
-    ends = np.array([s[0, :2] for s in strokes])
-    middle = ends.mean(axis=0)
-    t = np.linspace(0.15, 0.45, 15)[:, None]
-    p = middle + t * (ends[0] - middle)
-    inner = np.c_[p, height(p[:, 0], p[:, 1])]
-    out = build_object_and_measure(strokes + [inner])
-    assert len(out.build.choice.cycles) == 1 and len(out.build.surfaces) == 2 and len(out.build.divisions) == 1
-    holding = [k for k, surf in enumerate(out.build.surfaces) if surf.interior]
-    assert len(holding) == 1
-    surf = out.build.surfaces[holding[0]]
-    assert {out.build.graph.edges[e].stroke for e in surf.interior} == {7}
-    other = out.build.surfaces[1 - holding[0]]
-    loops = [_Loop(np.vstack([q[:-1] for q in s.cycle.polylines_from(out.build.polylines)])) for s in (surf, other)]
-    assert loops[0].inside(inner) > loops[1].inside(inner)
-    assert not any(out.folds)
-    assert out.build.roles[7].interior_to == (holding[0],)          # accounted for, where it went
-
-
 def test_a_divided_loop_is_not_screened_again_when_a_stroke_is_added_elsewhere(monkeypatch):
     """With a BuildCache (the network object's), a loop's division is found once: a stroke added
     away from the star (another loop of the sketch, a square 300 mm off) screens the square and
