@@ -225,44 +225,45 @@ def _carried_on(longer: FloatArray, over: FloatArray, delta: float) -> tuple[Flo
     The piece is moved to start at the longer stroke's end, the move fading out along it, so that
     it ends where it was drawn."""
     added: list = []
-    for _ in range(2):
-        d, at = nearest_on(over, longer)
-        close = d <= delta
-        if not close.any():
+    for _ in range(2):                  # (one end, then perhaps the other)
+        found = _carry_once(longer, over, delta)
+        if found is None:
             break
-        cum = cumulative_length(longer)
-        total = float(cum[-1])
-        first, last = int(np.argmax(close)), len(close) - 1 - int(np.argmax(close[::-1]))
-        done = False
-        for piece in (over[:first + 1][::-1], over[last:]):
-            length = chord_length(piece)
-            if len(piece) < 2 or length <= delta:
-                continue
-            s = float(nearest_on(piece[:1], longer)[1][0])
-            for s_end in (0.0, total):
-                way = end_direction(longer, cum, s_end, delta)     # (outwards)
-                go = piece[-1] - piece[0]
-                size = float(np.linalg.norm(go))
-                if abs(s - s_end) > delta or way is None or size <= 0.0 \
-                        or float(go @ way) / size < np.cos(np.radians(CARRY_DEG)):
-                    continue
-                end = longer[0] if s_end == 0.0 else longer[-1]
-                beyond = piece[1:][np.asarray((piece[1:] - end) @ way > 0.0)]
-                if len(beyond) < 1:
-                    continue
-                w = cumulative_length(np.vstack([end, beyond]))[1:]
-                if not w[-1] > 0.0:
-                    continue
-                moved = beyond + (end - piece[0])[None] * (1.0 - w / w[-1])[:, None]
-                longer = np.vstack([moved[::-1], longer]) if s_end == 0.0 else np.vstack([longer, moved])
-                added.append((s_end == 0.0, float(w[-1])))
-                done = True
-                break
-            if done:
-                break
-        if not done:
-            break
+        longer, at_start, mm = found
+        added.append((at_start, mm))
     return longer, added
+
+
+def _carry_once(longer: FloatArray, over: FloatArray, delta: float) -> tuple | None:
+    """(the longer stroke carried on, at its start?, mm added) by the first end piece of `over`
+    that carries it on (_carried_on), or None."""
+    d, at = nearest_on(over, longer)
+    close = d <= delta
+    if not close.any():
+        return None
+    cum = cumulative_length(longer)
+    total = float(cum[-1])
+    first, last = int(np.argmax(close)), len(close) - 1 - int(np.argmax(close[::-1]))
+    for piece, s in ((over[:first + 1][::-1], float(at[first])), (over[last:], float(at[last]))):
+        go = piece[-1] - piece[0]
+        size = float(np.linalg.norm(go))
+        if len(piece) < 2 or chord_length(piece) <= delta or size <= 0.0:
+            continue
+        for s_end in (0.0, total):
+            way = end_direction(longer, cum, s_end, delta)     # (outwards)
+            if abs(s - s_end) > delta or way is None or float(go @ way) / size < np.cos(np.radians(CARRY_DEG)):
+                continue
+            end = longer[0] if s_end == 0.0 else longer[-1]
+            beyond = piece[1:][np.asarray((piece[1:] - end) @ way > 0.0)]
+            if len(beyond) < 1:
+                continue
+            w = cumulative_length(np.vstack([end, beyond]))[1:]
+            if not w[-1] > 0.0:
+                continue
+            moved = beyond + (end - piece[0])[None] * (1.0 - w / w[-1])[:, None]
+            longer = np.vstack([moved[::-1], longer]) if s_end == 0.0 else np.vstack([longer, moved])
+            return longer, s_end == 0.0, float(w[-1])
+    return None
 
 
 def _crossings(strokes: list, live: list, delta: float, cands: NodeCandidates, trims: dict, cums: list,
@@ -572,6 +573,7 @@ def _one_place_one_node(groups: list, cands: NodeCandidates, keep_range: dict, l
                     continue
                 lo, hi = keep_range[i]
                 placed.setdefault(i, []).append((min(max(s, lo), hi), g))
+
     def ends_reach(g: int, along: int) -> float:
         """How far along `along` from its end a node of group g may lie and be its end's node
         (SAME_ARC_ENDS): 0 unless every other stroke g attaches to ends there (none passes
@@ -598,8 +600,10 @@ def _one_place_one_node(groups: list, cands: NodeCandidates, keep_range: dict, l
         # (box_31009r: 24.4, 24.9 and 25.6 mm of a 25.6 mm edge, the last two one corner's)
         for end, inside in ((lo, lambda s: s - lo), (hi, lambda s: hi - s)):
             at_end = {g for s, g in marks if inside(s) <= tiny}
-            for s, g in marks:
-                if g in at_end or inside(s) > max(SAME_ARC * delta, ends_reach(g, i)):
+            for s, g in marks if at_end else ():
+                far = inside(s)
+                if g in at_end or far > max(SAME_ARC, SAME_ARC_ENDS) * delta or (
+                        far > SAME_ARC * delta and far > ends_reach(g, i)):
                     continue
                 for g_end in at_end:
                     if np.linalg.norm(points[g] - points[g_end]) <= SAME_PLACE * delta:
