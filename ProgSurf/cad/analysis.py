@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.bspline_surface import project_points, unit_normals
-from ..core.folds import TUCK_REACH, Fold, tuck_deg, turn_from_mean_deg
+from ..core.folds import FOLD_DENSE, TUCK_REACH, Fold, inset_grid, tuck_deg, turn_from_mean_deg
 from ..core.curve_fit import chord_sag
 from ..core.types import FloatArray
 from ._occ import Part, Vector
@@ -428,19 +428,8 @@ sides of a face are left out, where a 3-sided face's collapsed corner has no def
 SEAM_SAMPLES between SEAM_END and 1 - SEAM_END)."""
 
 
-FOLD_DENSE = 33
-"""Points per side of the grid (3 % in from its sides, as FOLD_SAMPLES) on which a face's turn from
-its mean normal is read. A tuck 3-5 % of a face wide that fell between the lines of the 9 x 9
-grid turned 112 deg over unreported (sketchgen family 201000 sk_cyl_penta_8: "quality: ok", found
-by the comparison with the truth alone); on 33 x 33 it reads 112 deg, and no other face of that
-family's 90 sketches or of family 193000's 90 turns more than 62 deg. (The tucks' pairwise test,
-tuck_deg, stays on the 9 x 9 grid: it compares every pair of samples.)"""
-
-
 def _fold_grid(n: int = FOLD_SAMPLES) -> tuple[FloatArray, FloatArray]:
-    g = np.linspace(0.03, 0.97, n)
-    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-    return s, r
+    return inset_grid(n)
 
 
 def _face_points_and_normals(info, s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray, np.ndarray]:

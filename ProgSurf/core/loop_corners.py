@@ -26,7 +26,8 @@ import numpy as np
 
 from .boundary import best_fit_plane, merge_to_four, triangle_apex, turn_to_apex
 from .coons import coons_blend, df1, f1, f2
-from .folds import FACE_SAMPLES, FACE_TURN_DEG, TUCK_REACH, _face_samples, _turns_from_mean_deg, tucks_deg
+from .folds import (FACE_SAMPLES, FACE_TURN_DEG, FOLD_DENSE, TUCK_REACH, _face_samples, _turns_from_mean_deg,
+                    inset_grid, tucks_deg)
 from .strokes import cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -60,17 +61,6 @@ not taken where the paper corners' patch does not: a patch that bends far over b
 (a nacelle's lip, its sides U-shaped round it) reads as folding on the turn checks, and corners that
 turn less on them twisted it into a band folded along a line (TiGL full_nacelle)."""
 
-DENSE_SAMPLES = 33
-"""Samples per side of the grid (DENSE_INSET in from the sides) on which a patch's turn from its
-mean normal is read where a loop is judged (the paper corners' patch, the shortlisted choices):
-the built face's own check (cad.analysis.FOLD_DENSE). On the FACE_SAMPLES grid a tuck between its
-lines went unseen: CASSIE 10-2-1's surface 12 turned 69 deg there and 93 on this grid, and its
-built face was reported folding (92 deg) with the paper's corners kept; teapot's surface 43, 79
-and 94."""
-
-DENSE_INSET = 0.03
-"""... (cad.analysis._fold_grid's inset)."""
-
 MAX_TRIES = 400
 """At most this many corner choices per loop: with more places than that allows, only the
 loop's nodes are corner places (the sides' middles are left out)."""
@@ -101,15 +91,13 @@ def patch_turns_deg(choices: Sequence[Sequence[FloatArray]], reach: float,
     """patch_turn_deg of several choices of sides at once (choose_sides screens hundreds). A side
     array met again (the same object, at the same place in a choice) is evaluated once. The
     arithmetic is per patch, so one choice gives what it gives alone. dense: the turn from the
-    mean normal is read on the DENSE_SAMPLES grid too (the built face's check reads it there)."""
+    mean normal is read on the FOLD_DENSE grid too (folds.inset_grid: the built face's check reads it there)."""
     if not choices:
         return []
     points, normals, ok = _patch_frames(choices, *_face_samples(samples))
     turns = _turns_from_mean_deg(list(zip(normals, ok)))
     if dense:
-        g = np.linspace(DENSE_INSET, 1.0 - DENSE_INSET, DENSE_SAMPLES)
-        s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
-        _, fine, good = _patch_frames(choices, s, r)
+        _, fine, good = _patch_frames(choices, *inset_grid(FOLD_DENSE))
         turns = [max(a, b) for a, b in zip(turns, _turns_from_mean_deg(list(zip(fine, good))))]
     return [max(a, b) for a, b in zip(turns, tucks_deg(normals, ok, points, reach))]
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from ProgSurf.core.folds import find_folds
-from ProgSurf.core.loop_corners import FOLD_DEG, choose_sides, default_sides, patch_turn_deg
+from ProgSurf.core.loop_corners import FOLD_DEG, choose_sides, default_sides, patch_turn_deg, patch_turns_deg
 from ProgSurf.core.objects import build_object
 
 R = 100.0
@@ -86,7 +86,8 @@ def test_the_lamps_folding_loops_get_corners_where_their_patch_turns_less():
             shaped = [b.bottom, b.right, b.left[::-1]]
         assert paper > FOLD_DEG and other <= paper - GAIN_DEG, (k, notes[0])
         # the patch of the corners the surface was built on turns as little as the note says
-        assert patch_turn_deg(shaped, reach) == pytest.approx(other, abs=0.5), k
+        # (read, as choose_sides reads it, on the dense grid too)
+        assert patch_turns_deg([shaped], reach, dense=True)[0] == pytest.approx(other, abs=0.5), k
     assert moved >= 3
 
 
@@ -207,11 +208,12 @@ def test_a_lip_that_bends_right_over_keeps_its_corners_rather_than_fold_along_a_
 def test_a_narrow_tuck_between_the_coarse_grids_lines_is_seen_on_the_dense_grid():
     """A square loop whose bottom side dips in a narrow notch (2 mm wide, 20 deep, on a 1 m side):
     its Coons patch carries the notch across as a narrow tuck. The FACE_SAMPLES grid's lines (every 12.5 %)
-    pass either side of it and read a patch that does not fold; the DENSE_SAMPLES grid, the built
+    pass either side of it and read a patch that does not fold; the FOLD_DENSE grid, the built
     face's check, reads the tuck's turn (choose_sides judges a loop's paper corners on it: CASSIE
     10-2-1's surface 12 read 69 deg on the coarse grid, 93 on the dense, and its face was reported
     folding at 92)."""
-    from ProgSurf.core.loop_corners import DENSE_SAMPLES, patch_turns_deg
+    from ProgSurf.core.folds import FOLD_DENSE
+    from ProgSurf.core.loop_corners import patch_turns_deg
 
     t = np.linspace(0.0, 1.0, 4001)
     notch = 20.0 * np.clip(1.0 - np.abs(t - 0.54) / 0.001, 0.0, None)      # 20 mm deep, 2 mm wide
@@ -227,7 +229,7 @@ def test_a_narrow_tuck_between_the_coarse_grids_lines_is_seen_on_the_dense_grid(
     reach = 0.15 * np.linalg.norm([1000.0, 1000.0, 20.0])
     coarse = patch_turns_deg([sides], reach)[0]
     dense = patch_turns_deg([sides], reach, dense=True)[0]
-    assert DENSE_SAMPLES >= 33
+    assert FOLD_DENSE >= 33
     assert coarse < FOLD_DEG < dense, (coarse, dense)
 
 
