@@ -81,6 +81,30 @@ def test_corners_are_found_at_the_fairing_scale_and_kept():
     assert stroke_corners(straight, stroke_tolerance(straight, 0.1, 3.0)) == []
 
 
+def test_a_noisy_ring_faired_coarsely_has_no_corners_and_a_drawn_corner_keeps_its_own():
+    """A round frame drawn with jitter near a fiftieth of its radius gets a fairing tolerance near a
+    twentieth of it (4 sigma), and chords of 4 x that turn 40 deg on the ring's roundness alone: the
+    jitter made 50-60 deg of it at some points, read as corners (TiGL fuselage2 noisy: 5 and 7
+    corners on two frames, their surfaces creased across). The ring's own bending is taken off; a
+    square's corners, and a U's two corners closer than the chords, stay."""
+    rng = np.random.default_rng(29)
+    radius = 2000.0
+    found = []
+    for _ in range(20):
+        k = int(rng.integers(40, 70))
+        phi = np.sort(rng.uniform(0.0, 2 * np.pi, k))
+        ring = np.c_[radius * np.cos(phi), radius * np.sin(phi), np.zeros(k)] + rng.normal(0.0, 40.0, (k, 3))
+        found.append(len(stroke_corners(ring, 4.0 * 85.0)))
+    assert sum(found) <= 2, found
+    side = np.linspace(0.0, 1000.0, 26)[:-1, None]
+    square = np.vstack([side * [1, 0, 0], [1000, 0, 0] + side * [0, 1, 0], [1000, 1000, 0] + side * [-1, 0, 0],
+                        [0, 1000, 0] + side * [0, -1, 0], [[0, 0, 0]]]) + rng.normal(0.0, 5.0, (101, 3))
+    assert stroke_corners(square, 20.0) == [25, 50, 75]
+    leg = np.linspace(0.0, 400.0, 41)[:, None]
+    u = np.vstack([leg[::-1] * [0, 1, 0], leg[1:9] * [1, 0, 0], [80, 0, 0] + leg[1:] * [0, 1, 0]])
+    assert stroke_corners(u, 10.0) == [40, 48]        # 80 apart, chords of 40 and 80 either side
+
+
 def test_equalise_uniform_gives_even_spacing_equal_counts_and_keeps_corners():
     a = arc(200)
     leg = np.linspace(0.0, 30.0, 16)[:, None]
