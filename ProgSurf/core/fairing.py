@@ -174,8 +174,8 @@ def _concentrated_turn(points: FloatArray, run: FloatArray, idx, back, ahead) ->
     A smooth bend of curvature k turns chords of arc a and b by about k (a + b) / 2; a corner turns
     them by its angle c whatever their length. So with the back chord made twice as long, t2 =
     c + 1.5 k a against t = c + k a (a = b), and 3 t - 2 t2 = c: the bend is taken off and the corner
-    stays. Without this, a noisy ring of radius R faired within a tolerance near R / 20 (sigma 0.2 %
-    of the sketch on a fuselage's frame, TiGL fuselage2, helibody) read its own roundness over the
+    stays. Without this, a noisy ring of radius R faired within a tolerance near R / 6 (4 x its jitter,
+    itself near R / 23: sigma 0.2 % of the sketch on a fuselage's frame, TiGL fuselage2, helibody) read its own roundness over the
     4 x tol chords, 40 deg, plus jitter, as corners of 50-60 deg, kept them, and its surfaces
     creased across from them (folds of 96-112 deg). The estimate is read with the back chord
     doubled and with the ahead chord doubled, and the larger is kept: a corner followed closely by
