@@ -27,7 +27,7 @@ import numpy as np
 from .boundary import best_fit_plane, merge_to_four, triangle_apex, turn_to_apex
 from .coons import coons_blend, df1, f1, f2
 from .folds import (FACE_SAMPLES, FACE_TURN_DEG, FOLD_DENSE, TUCK_REACH, _face_samples, _turns_from_mean_deg,
-                    inset_grid, tucks_deg)
+                    inset_grid, tangent_corner, tucks_deg)
 from .strokes import cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -169,6 +169,8 @@ def _patch_frames(choices: Sequence[Sequence[FloatArray]], s: FloatArray, r: Flo
     size = np.linalg.norm(cross, axis=-1)
     ok = size > 1e-12 * np.maximum(size.max(axis=1, initial=0.0), 1e-300)[:, None]
     normals = cross / np.where(ok, size, 1.0)[..., None]
+    sine = size / np.maximum(np.linalg.norm(pu, axis=-1) * np.linalg.norm(pv, axis=-1), 1e-300)
+    ok &= ~tangent_corner(s[None, :], r[None, :], sine)
     return points, normals, ok
 
 

@@ -247,3 +247,30 @@ def test_the_lamps_loop_with_a_narrow_tuck_gets_corners_that_do_not_fold():
              if sorted({g.edges[e].stroke for e, _ in surf.cycle.sides}) == [14, 21, 22, 49]]
     assert len(found) == 1
     assert not out.folds[found[0]]
+
+
+def test_a_ring_cut_into_four_arcs_does_not_fold_where_two_arcs_meet_almost_tangent():
+    """A ring merged to four sides has corners on one smooth curve: there the patch's partial
+    derivatives are parallel up to the polyline's kinks, and the sign of their cross product is
+    chance (the nose cap's ring: one corner 0.01 deg off tangency read its normal upside down, a
+    180 deg "fold", on one machine's BLAS and not on another's). A corner that meets within
+    folds.TANGENT_CORNER_DEG of tangency is not read; a corner pushed in further still folds the
+    patch around it, and is read."""
+    radius = 50.0
+    phi = np.radians(np.arange(0.0, 361.0, 3.0))
+    ring = np.column_stack([radius * np.cos(phi), radius * np.sin(phi), np.zeros_like(phi)])
+
+    def turn(push: float) -> tuple[float, float]:
+        loop = ring.copy()
+        loop[90] *= (radius - push) / radius              # the corner at 270 deg, pushed in
+        loop[-1] = loop[0]
+        a, b = loop[90] - loop[89], loop[91] - loop[90]
+        kink = float(np.degrees(np.arctan2(np.cross(a, b)[2], a @ b)))     # < 0: reflex
+        sides = [loop[0:31], loop[30:61], loop[60:91], loop[90:121]]
+        return kink, patch_turn_deg(sides, 0.15 * 2 * radius)
+
+    for push in (0.05, 0.07, 0.075, 0.08):              # 0.8 deg convex to 0.5 deg reflex
+        kink, got = turn(push)
+        assert -1.0 < kink < 1.0 and got < 1.0, (push, kink, got)
+    kink, got = turn(0.5)                                # 19 deg reflex: the patch folds there
+    assert kink < -10.0 and got > 90.0, (kink, got)
