@@ -109,6 +109,24 @@ def test_a_noisy_ring_faired_coarsely_has_no_corners_and_a_drawn_corner_keeps_it
     assert stroke_corners(u, 10.0) == [40, 45]
 
 
+def test_a_corner_just_before_a_strokes_end_after_a_bend_the_same_way_is_kept():
+    """Six points from the end only the back chord can be doubled: the arc's bending behind the
+    corner is taken off once, the short straight side's (none) is not guessed. Taken off twice (as
+    if the short side bent the same), the 60 deg corner after an arc of radius 15 tolerances read
+    under 50 deg: lost drawn clean, and 131 times in 300 with jitter of an eighth of the tolerance."""
+    radius = 15.0
+    th = np.arange(48) / radius
+    arc = np.column_stack([radius * np.sin(th), radius * (1.0 - np.cos(th)), np.zeros_like(th)])
+    out = th[-1] + np.radians(60.0)
+    tail = arc[-1] + np.arange(1, 7)[:, None] * [np.cos(out), np.sin(out), 0.0]
+    pts = np.vstack([arc, tail])
+    assert stroke_corners(pts, 1.0) == [47]
+    rng = np.random.default_rng(7)
+    missed = sum(not any(abs(k - 47) <= 1 for k in stroke_corners(pts + rng.normal(0.0, 1.0 / 8, pts.shape), 1.0))
+                 for _ in range(300))
+    assert missed <= 30, missed
+
+
 def test_equalise_uniform_gives_even_spacing_equal_counts_and_keeps_corners():
     a = arc(200)
     leg = np.linspace(0.0, 30.0, 16)[:, None]
