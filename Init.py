@@ -28,7 +28,7 @@ def _progsurf_register():
         return
     root = os.path.normpath(roots[0])
 
-    FreeCAD.addImportType("ProgSurf strokes (*.xyz *.asc *.c3d)", "ProgSurf.app.importer")
+    FreeCAD.addImportType("ProgSurf strokes (*.xyz *.asc *.c3d *.curves)", "ProgSurf.app.importer")
 
     # Loaded by its path: importing the ProgSurf package here would fix, at start-up, which
     # checkout every later `import ProgSurf` gets.

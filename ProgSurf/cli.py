@@ -108,7 +108,7 @@ def _parser() -> argparse.ArgumentParser:
                                             "(Qin & Wright), written as STEP/IGES.")
     sub = p.add_subparsers(dest="command", required=True)
     b = sub.add_parser("build", help="build a surface from stroke files and export it")
-    b.add_argument("inputs", nargs="+", metavar="STROKE_FILE", help=".xyz/.txt/.csv/.asc point lists or .c3d")
+    b.add_argument("inputs", nargs="+", metavar="STROKE_FILE", help=".xyz/.txt/.csv/.asc point lists, .c3d or CASSIE .curves")
     b.add_argument("-o", "--output", required=True, metavar="OUT.step", help="STEP AP214 file to write")
     b.add_argument("--iges", metavar="OUT.igs", help="also write IGES (BRep mode)")
     b.add_argument("--fcstd", metavar="OUT.FCStd", help="also write a FreeCAD document with strokes and surface")

@@ -1,6 +1,6 @@
-"""FreeCAD import module for stroke files (.xyz .txt .csv .asc .c3d).
+"""FreeCAD import module for stroke files (.xyz .txt .csv .asc .c3d .curves).
 
-Init.py registers it: ``FreeCAD.addImportType("ProgSurf strokes (*.xyz *.asc *.c3d)",
+Init.py registers it: ``FreeCAD.addImportType("ProgSurf strokes (*.xyz *.asc *.c3d *.curves)",
 "ProgSurf.app.importer")``, so File > Open / File > Import and ``FreeCAD.openDocument`` /
 ``FreeCAD.getDocument(name)``-based ``insert`` reach it, headless too.
 """

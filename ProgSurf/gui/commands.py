@@ -17,7 +17,7 @@ from ProgSurf.core.errors import ProgSurfError
 
 from .common import ask_path, icon, tell
 
-STROKE_FILTER = "Stroke files (*.xyz *.txt *.csv *.asc *.c3d);;All files (*)"
+STROKE_FILTER = "Stroke files (*.xyz *.txt *.csv *.asc *.c3d *.curves);;All files (*)"
 EXPORT_FILTER = "STEP (*.step *.stp);;IGES (*.iges *.igs)"
 
 

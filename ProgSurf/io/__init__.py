@@ -3,6 +3,7 @@
 `read_strokes(path, **options)` picks the reader from the file extension:
   .xyz .txt .csv .asc  point lists (`pointlist.read_point_list`, no options)
   .c3d                 motion-capture markers (`c3d.read_c3d_strokes(path, **options)`)
+  .curves              CASSIE's VR sketches, metres (`curves.read_curves`, no options)
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from ..core.types import FloatArray
 from .pointlist import read_point_list, write_point_list
 
 POINT_LIST_EXTENSIONS = (".xyz", ".txt", ".csv", ".asc")
-SUPPORTED_EXTENSIONS = POINT_LIST_EXTENSIONS + (".c3d",)
+SUPPORTED_EXTENSIONS = POINT_LIST_EXTENSIONS + (".c3d", ".curves")
 
 __all__ = ["read_strokes", "read_point_list", "write_point_list", "SUPPORTED_EXTENSIONS"]
 
@@ -32,6 +33,13 @@ def read_strokes(path: str | os.PathLike, **options: Any) -> list[FloatArray]:
                 "they are only for .c3d files"
             )
         return read_point_list(path)
+    if ext == ".curves":
+        from .curves import read_curves
+
+        if options:
+            raise StrokeFileError(f"options {sorted(options)} do not apply to .curves files; "
+                                  "they are only for .c3d files")
+        return read_curves(path)
     if ext == ".c3d":
         from .c3d import read_c3d_strokes  # lazy: only C3D users pay for that module
 
