@@ -12,7 +12,7 @@ measured in the same run (benchmarks.run.machine_reference_ms). The issue's spee
 checked on the largest sketch (most strokes): it builds in under TARGET_S seconds.
 
 Where ../shared/data is absent (a user's clone) there is nothing to measure: it says so and
-exits 0. Give another folder of .xyz sketches with --data.
+exits 0. Give another folder of .xyz (or CASSIE .curves) sketches with --data.
 """
 from __future__ import annotations
 
@@ -32,14 +32,17 @@ TARGET_S = 10.0
 
 
 def sketches(data: Path) -> list[Path]:
-    """The .xyz sketches under data, by name."""
-    return sorted(data.rglob("*.xyz"), key=lambda p: p.name)
+    """The .xyz sketches under data, and the CASSIE .curves ones with no .xyz of their name beside
+    them (../shared holds each CASSIE sketch as both), by name."""
+    xyz = list(data.rglob("*.xyz"))
+    curves = [p for p in data.rglob("*.curves") if not p.with_suffix(".xyz").exists()]
+    return sorted(xyz + curves, key=lambda p: p.name)
 
 
 def build(path: Path, out: Path) -> dict:
     """Build one sketch through the command line in a fresh process; its report, the wall time and
     the process's exit code (a report of None when it wrote none)."""
-    name = path.name[:-4]
+    name = path.stem
     report = out / f"{name}.json"
     report.unlink(missing_ok=True)
     cmd = [sys.executable, "-m", "ProgSurf", "build", str(path), "-o", str(out / f"{name}.step"),
@@ -54,10 +57,10 @@ def build(path: Path, out: Path) -> dict:
 
 
 def _count_strokes(path: Path) -> int:
-    """The strokes of an .xyz sketch (the reader's own count)."""
-    from ProgSurf.io.pointlist import read_point_list
+    """The strokes of a sketch (the reader's own count)."""
+    from ProgSurf.io import read_strokes
 
-    return len(read_point_list(path))
+    return len(read_strokes(path))
 
 
 def line(r: dict, reference_ms: float) -> str:
@@ -94,14 +97,14 @@ def summary(results: list, reference_ms: float) -> str:
 
 def main(argv: list | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", default=str(DATA), help="folder searched for .xyz sketches (default ../shared/data)")
-    ap.add_argument("--only", nargs="*", default=(), help="sketch names (file names without .xyz)")
+    ap.add_argument("--data", default=str(DATA), help="folder searched for .xyz and .curves sketches (default ../shared/data)")
+    ap.add_argument("--only", nargs="*", default=(), help="sketch names (file names without .xyz or .curves)")
     ap.add_argument("--out", default=None, help="folder for the STEP files, reports, logs and real.txt")
     args = ap.parse_args(argv)
     data = Path(args.data)
-    todo = [p for p in sketches(data) if not args.only or p.name[:-4] in args.only] if data.is_dir() else []
+    todo = [p for p in sketches(data) if not args.only or p.stem in args.only] if data.is_dir() else []
     if not todo:
-        print(f"no sketches to measure: {data} is absent or holds none of {list(args.only) or 'its .xyz files'}")
+        print(f"no sketches to measure: {data} is absent or holds none of {list(args.only) or 'its .xyz or .curves files'}")
         return 0
     sys.path.insert(0, str(ROOT))
     from benchmarks.run import machine_reference_ms
