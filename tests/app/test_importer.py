@@ -54,7 +54,7 @@ class TestImport(DocTestCase):
     def test_import_through_freecad_registry(self):
         if "ProgSurf.app.importer" not in FreeCAD.getImportType("xyz"):
             self.skipTest("Init.py has not registered the import type: run ./install.sh")
-        for ext in ("asc", "c3d"):
+        for ext in ("asc", "c3d", "curves"):
             self.assertIn("ProgSurf.app.importer", FreeCAD.getImportType(ext))
         path, expected = self.write_file(".xyz")
         opened = self.open_through_registry(path)      # .xyz: the module is found by extension
@@ -73,6 +73,17 @@ class TestImport(DocTestCase):
             self.check_imported([o for o in opened.Objects if hasattr(o, "Points")], expected)
         finally:
             FreeCAD.closeDocument(opened.Name)
+        # CASSIE's .curves (metres), found by its extension
+        path = os.path.join(self.tmp.name, "vr.curves")
+        with open(path, "w") as fh:
+            fh.write("".join(f"v {len(a)}\n" + "".join(f"{x / 1000!r} {y / 1000!r} {z / 1000!r}\n" for x, y, z in a)
+                             for a in expected))
+        opened = self.open_through_registry(path)
+        try:
+            self.check_imported([o for o in opened.Objects if hasattr(o, "Points")], expected)
+        finally:
+            FreeCAD.closeDocument(opened.Name)
+        path, expected = self.write_file(".asc")
         # and insert into this document by name (File > Import)
         FreeCAD.loadFile(path, self.doc.Name, "ProgSurf.app.importer")
         self.check_imported([o for o in self.doc.Objects if hasattr(o, "Points")], expected)
