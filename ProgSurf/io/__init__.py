@@ -26,19 +26,13 @@ def read_strokes(path: str | os.PathLike, **options: Any) -> list[FloatArray]:
     options are passed to the C3D reader; point-list files take none.
     """
     ext = os.path.splitext(os.fspath(path))[1].lower()
+    if options and ext in SUPPORTED_EXTENSIONS and ext != ".c3d":
+        raise StrokeFileError(f"options {sorted(options)} do not apply to {ext} files; they are only for .c3d files")
     if ext in POINT_LIST_EXTENSIONS:
-        if options:
-            raise StrokeFileError(
-                f"options {sorted(options)} do not apply to point-list files ({ext}); "
-                "they are only for .c3d files"
-            )
         return read_point_list(path)
     if ext == ".curves":
         from .curves import read_curves
 
-        if options:
-            raise StrokeFileError(f"options {sorted(options)} do not apply to .curves files; "
-                                  "they are only for .c3d files")
         return read_curves(path)
     if ext == ".c3d":
         from .c3d import read_c3d_strokes  # lazy: only C3D users pay for that module

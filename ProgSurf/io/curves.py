@@ -6,13 +6,17 @@ file order, in millimetres (x 1000), their points as drawn. Numpy only.
 from __future__ import annotations
 
 import os
+from typing import Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from ..core.errors import StrokeFileError
 from ..core.types import FloatArray
+from .pointlist import read_text
 
 METRES_TO_MM = 1000.0
+FORMAT = "a .curves file: 'v N' lines, each followed by N 'x y z' lines in metres"
 
 
 def read_curves(path: str | os.PathLike) -> list[FloatArray]:
@@ -21,15 +25,8 @@ def read_curves(path: str | os.PathLike) -> list[FloatArray]:
     Raises StrokeFileError naming the file and line for what it cannot read: a missing file, a
     point before any ``v N`` line, a line that is not 3 numbers, non-finite coordinates, a stroke
     with more or fewer points than its ``v N`` line says, or a file with no points."""
-    name = os.path.basename(os.fspath(path))
-    try:
-        with open(path, "r", encoding="utf-8-sig") as fh:
-            lines = fh.read().splitlines()
-    except OSError as exc:
-        raise StrokeFileError(f"cannot read stroke file {os.fspath(path)!r}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise StrokeFileError(f"{name} is not a text file (byte {exc.start}); a .curves file has "
-                              "'v N' lines, each followed by N 'x y z' lines in metres") from None
+    name, text = read_text(path, FORMAT, f"({FORMAT})")
+    lines = text.splitlines()
     strokes: list[list[list[float]]] = []
     counts: list[tuple[int, int]] = []          # (points its 'v N' line announced, that line)
     for no, line in enumerate(lines, start=1):
@@ -57,3 +54,12 @@ def read_curves(path: str | os.PathLike) -> list[FloatArray]:
     if not any(strokes):
         raise StrokeFileError(f"{name} has no points")
     return [np.asarray(s, dtype=float).reshape(-1, 3) * METRES_TO_MM for s in strokes if s]
+
+
+def write_curves(path: str | os.PathLike, strokes: Sequence[npt.ArrayLike]) -> None:
+    """Write strokes ((n, 3) points in mm each) as a CASSIE .curves file (metres), read_curves'
+    format: the points read back as written, to round-off."""
+    with open(path, "w", encoding="utf-8") as fh:
+        for stroke in strokes:
+            pts = np.asarray(stroke, dtype=float).reshape(-1, 3) / METRES_TO_MM
+            fh.write(f"v {len(pts)}\n" + "".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in pts.tolist()))

@@ -32,13 +32,10 @@ def _token_float(tok: str) -> float | None:
         return None
 
 
-def read_point_list(path: str | os.PathLike) -> list[FloatArray]:
-    """Read the strokes of a point-list file; returns a list of (n, 3) float arrays (mm).
-
-    Raises StrokeFileError naming the file and line for anything it cannot read: a missing or
-    binary file, a line without 3 numbers, non-finite coordinates, a stroke column that is not an
-    integer, a mix of 3- and 4-column lines, or a file with no points.
-    """
+def read_text(path: str | os.PathLike, not_binary: str, as_text: str) -> tuple[str, str]:
+    """(file name, text) of a stroke text file; StrokeFileError for a missing or unreadable file, a
+    binary one ("is a binary file, not <not_binary>") or one not UTF-8 ("save it as plain text
+    <as_text>")."""
     name = os.path.basename(os.fspath(path))
     try:
         with open(path, "rb") as fh:
@@ -46,13 +43,21 @@ def read_point_list(path: str | os.PathLike) -> list[FloatArray]:
     except OSError as exc:
         raise StrokeFileError(f"cannot read stroke file {os.fspath(path)!r}: {exc.strerror or exc}") from None
     if b"\x00" in raw:
-        raise StrokeFileError(f"{name} is a binary file, not a point list; give x y z text lines")
+        raise StrokeFileError(f"{name} is a binary file, not {not_binary}")
     try:
-        text = raw.decode("utf-8-sig")
+        return name, raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise StrokeFileError(
-            f"{name} is not UTF-8 text (byte {exc.start}); save it as plain text with x y z per line"
-        ) from None
+        raise StrokeFileError(f"{name} is not UTF-8 text (byte {exc.start}); save it as plain text {as_text}") from None
+
+
+def read_point_list(path: str | os.PathLike) -> list[FloatArray]:
+    """Read the strokes of a point-list file; returns a list of (n, 3) float arrays (mm).
+
+    Raises StrokeFileError naming the file and line for anything it cannot read: a missing or
+    binary file, a line without 3 numbers, non-finite coordinates, a stroke column that is not an
+    integer, a mix of 3- and 4-column lines, or a file with no points.
+    """
+    name, text = read_text(path, "a point list; give x y z text lines", "with x y z per line")
 
     strokes: list[list[list[float]]] = []
     by_id: dict[int, list[list[float]]] = {}

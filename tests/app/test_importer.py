@@ -18,6 +18,7 @@ import numpy as np  # noqa: E402
 
 import ProgSurf.app.make as ps  # noqa: E402
 from ProgSurf.io import read_strokes, write_point_list  # noqa: E402
+from ProgSurf.io.curves import write_curves  # noqa: E402
 
 
 class TestImport(DocTestCase):
@@ -75,9 +76,7 @@ class TestImport(DocTestCase):
             FreeCAD.closeDocument(opened.Name)
         # CASSIE's .curves (metres), found by its extension
         path = os.path.join(self.tmp.name, "vr.curves")
-        with open(path, "w") as fh:
-            fh.write("".join(f"v {len(a)}\n" + "".join(f"{x / 1000!r} {y / 1000!r} {z / 1000!r}\n" for x, y, z in a)
-                             for a in expected))
+        write_curves(path, expected)
         opened = self.open_through_registry(path)
         try:
             self.check_imported([o for o in opened.Objects if hasattr(o, "Points")], expected)

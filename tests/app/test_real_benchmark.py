@@ -13,6 +13,7 @@ import unittest
 from pathlib import Path
 
 from ProgSurf.io import read_strokes
+from ProgSurf.io.curves import write_curves
 
 ROOT = Path(__file__).resolve().parents[2]
 PYTHON = "/usr/bin/python3"
@@ -36,9 +37,7 @@ class RealBenchmarkTest(unittest.TestCase):
         for name in SKETCHES[:1]:
             shutil.copy(ROOT / "examples" / name, data / name)
         # the second as CASSIE writes its sketches: 'v N', then N points in metres
-        strokes = read_strokes(ROOT / "examples" / SKETCHES[1])
-        (data / (SKETCHES[1][:-4] + ".curves")).write_text("".join(
-            f"v {len(s)}\n" + "".join(f"{x / 1000!r} {y / 1000!r} {z / 1000!r}\n" for x, y, z in s) for s in strokes))
+        write_curves(data / (SKETCHES[1][:-4] + ".curves"), read_strokes(ROOT / "examples" / SKETCHES[1]))
         # an .xyz beside a .curves of its name is the one measured (../shared holds CASSIE's as both)
         shutil.copy(ROOT / "examples" / SKETCHES[0], data / (SKETCHES[0][:-4] + ".curves"))
         cls.out = Path(cls.tmp.name) / "out"

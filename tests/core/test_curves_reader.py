@@ -9,6 +9,7 @@ import pytest
 
 from ProgSurf.core.errors import StrokeFileError
 from ProgSurf.io import SUPPORTED_EXTENSIONS, read_strokes
+from ProgSurf.io.curves import write_curves
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "cassie"
 
@@ -42,12 +43,22 @@ def test_a_curves_file_reads_as_strokes_in_millimetres(tmp_path):
     ("v 1\n0 0 a\n", "line 2"),
     ("", "no points"),
     ("v 0\n", "no points"),
+    ("v 1\n0 0 \x00\n", "binary file, not a .curves file"),
 ])
 def test_a_malformed_curves_file_is_refused_naming_its_line(tmp_path, text, where):
     path = tmp_path / "bad.curves"
     path.write_text(text)
     with pytest.raises(StrokeFileError, match=where):
         read_strokes(path)
+
+
+def test_written_strokes_read_back_as_written(tmp_path):
+    strokes = [np.array([[0.0, 1.5, -2.25], [1234.5678, 1e-3, 987654.321]]), np.array([[5.0, 6.0, 7.0]])]
+    path = tmp_path / "w.curves"
+    write_curves(path, strokes)
+    assert path.read_text().splitlines()[:2] == ["v 2", "0.0 0.0015 -0.00225"]
+    for a, b in zip(read_strokes(path), strokes):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
 
 
 def test_options_are_for_c3d_files_only(tmp_path):
