@@ -37,6 +37,7 @@ from .pipeline import BuildResult, build_network, resolve_tolerances
 from .stroke_cycles import Cycle, CycleChoice, find_cycles, vector_area
 from .stroke_graph import StrokeGraph, build_stroke_graph
 from .strokes import chord_length, cumulative_length, filter_stroke, point_at_length, round_points, validate_stroke
+from .twice_drawn import twice_drawn
 from .types import FloatArray, Tolerances
 
 EASE_REACHES = (0.1, 0.2)
@@ -475,16 +476,17 @@ class _Loop:
         return float((crosses.sum(axis=1) % 2 == 1).mean())
 
 
-def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -> dict:
+def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict, merged: frozenset | set = frozenset()) -> dict:
     """cycle index -> [edge ids]: each edge that bounds no chosen cycle goes to the cycle whose
-    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do.
+    loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do. Edges
+    merged into another (core.twice_drawn) lie on a boundary already and go to none.
     (Each loop's plane is fitted once; a piece too far from a loop's plane is not tested for
     being inside it.)"""
     bounding = {e for c in choice.cycles for e in c.edge_ids}
     loops = [_Loop(np.vstack([p[:-1] for p in c.polylines(graph)])) for c in choice.cycles]
     out: dict = {}
     for e in graph.edges:
-        if e.id in bounding:
+        if e.id in bounding or e.id in merged:
             continue
         best = None
         for k, loop in enumerate(loops):
@@ -561,6 +563,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     arcs = _stroke_arcs(graph, faired, origins)
     polylines = edge_polylines(graph, faired, origins, arcs)
     tangents = node_tangents(graph, faired, arcs, polylines)
+    choice, merged = twice_drawn(graph, choice, polylines)
     timings["graph"] = time.perf_counter() - clock
     if not choice.cycles:
         raise ProgSurfError(
@@ -568,7 +571,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
             f"{len(graph.edges)} edges but no closed loop of curves: no surface is bounded; draw "
             f"strokes that cross or meet (within {graph.delta:.3g} mm) around each surface")
     clock = time.perf_counter()
-    interior = _assign_interior(graph, choice, polylines)
+    interior = _assign_interior(graph, choice, polylines, set(merged))
     part_of = {e: p for p, edges in enumerate(choice.parts) for e in edges}
     # each surface's polylines as they are: no second filtering or fairing (module docstring)
     inner_tol = replace(tol, filter_mm=0.0, fair_mm=0.0)
@@ -603,7 +606,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
                                       part_of[next(e for e, _ in cycle.sides if e in part_of)], key, reused,
                                       _curves_key(cycle, tangents)))
     timings["surfaces"] = time.perf_counter() - clock
-    return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed),
+    return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed, merged),
                        tol, timings, polylines, tangents, tuple(divisions))
 
 
@@ -706,8 +709,9 @@ def steady_tolerances(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolera
                    fit_mm=steady(tol.fit_mm, full.fit_mm))
 
 
-def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list) -> tuple:
-    """StrokeRole per input stroke (module docstring)."""
+def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list, merged: dict | None = None) -> tuple:
+    """StrokeRole per input stroke (module docstring); merged: {edge id: the edge it was merged
+    into} (core.twice_drawn)."""
     bounds: dict = {}
     inside: dict = {}
     rejected: dict = {}
@@ -722,9 +726,16 @@ def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list
             else:
                 rejected.setdefault(stroke, []).append(f"surface {k} rejected it: {rec.reason}")
     failed_edges = {e: reason for c, reason in failed for e in c.edge_ids}
+    twice: dict = {}
+    for e, into in (merged or {}).items():
+        twice.setdefault(graph.edges[e].stroke, set()).add(graph.edges[into].stroke)
     out = []
     for i in range(len(graph.strokes)):
         note = graph.notes.get(i, "")
+        if i in twice:
+            over = ", ".join(str(k) for k in sorted(twice[i]))
+            note = "; ".join(x for x in (note, f"a piece drawn twice with stroke {over} between two nodes: "
+                                               f"merged into it") if x)
         reason = note
         if i not in bounds and i not in inside:
             edges = graph.edges_of_stroke(i)
@@ -735,6 +746,8 @@ def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list
                     failed_edges[e.id] for e in edges if e.id in failed_edges)
             elif edges and all(e.id in choice.dangling for e in edges):
                 reason = "it dangles outside every surface (no loop of curves holds it)"
+            elif edges and all(e.id in (merged or {}) for e in edges):
+                reason = note
             elif edges:
                 reason = "its pieces bound no surface and lie inside none"
             reason = (note + "; " + reason) if note and reason != note else reason
