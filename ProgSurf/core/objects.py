@@ -476,10 +476,10 @@ class _Loop:
         return float((crosses.sum(axis=1) % 2 == 1).mean())
 
 
-def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict, merged: frozenset | set = frozenset()) -> dict:
+def _assign_interior(graph: StrokeGraph, choice: CycleChoice, polylines: dict, merged: dict) -> dict:
     """cycle index -> [edge ids]: each edge that bounds no chosen cycle goes to the cycle whose
     loop holds it (INSIDE_FRACTION, INSIDE_HEIGHT); the smallest such loop when several do. Edges
-    merged into another (core.twice_drawn) lie on a boundary already and go to none.
+    merged into another (merged: core.twice_drawn) lie on a boundary already and go to none.
     (Each loop's plane is fitted once; a piece too far from a loop's plane is not tested for
     being inside it.)"""
     bounding = {e for c in choice.cycles for e in c.edge_ids}
@@ -571,7 +571,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
             f"{len(graph.edges)} edges but no closed loop of curves: no surface is bounded; draw "
             f"strokes that cross or meet (within {graph.delta:.3g} mm) around each surface")
     clock = time.perf_counter()
-    interior = _assign_interior(graph, choice, polylines, set(merged))
+    interior = _assign_interior(graph, choice, polylines, merged)
     part_of = {e: p for p, edges in enumerate(choice.parts) for e in edges}
     # each surface's polylines as they are: no second filtering or fairing (module docstring)
     inner_tol = replace(tol, filter_mm=0.0, fair_mm=0.0)
@@ -709,7 +709,7 @@ def steady_tolerances(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolera
                    fit_mm=steady(tol.fit_mm, full.fit_mm))
 
 
-def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list, merged: dict | None = None) -> tuple:
+def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list, merged: dict) -> tuple:
     """StrokeRole per input stroke (module docstring); merged: {edge id: the edge it was merged
     into} (core.twice_drawn)."""
     bounds: dict = {}
@@ -727,7 +727,7 @@ def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list
                 rejected.setdefault(stroke, []).append(f"surface {k} rejected it: {rec.reason}")
     failed_edges = {e: reason for c, reason in failed for e in c.edge_ids}
     twice: dict = {}
-    for e, into in (merged or {}).items():
+    for e, into in merged.items():
         twice.setdefault(graph.edges[e].stroke, set()).add(graph.edges[into].stroke)
     out = []
     for i in range(len(graph.strokes)):
@@ -746,7 +746,7 @@ def _roles(graph: StrokeGraph, choice: CycleChoice, surfaces: list, failed: list
                     failed_edges[e.id] for e in edges if e.id in failed_edges)
             elif edges and all(e.id in choice.dangling for e in edges):
                 reason = "it dangles outside every surface (no loop of curves holds it)"
-            elif edges and all(e.id in (merged or {}) for e in edges):
+            elif edges and all(e.id in merged for e in edges):
                 reason = note
             elif edges:
                 reason = "its pieces bound no surface and lie inside none"

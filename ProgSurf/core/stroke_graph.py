@@ -656,21 +656,30 @@ def _passes_through(n: int, edges: list) -> bool:
     return any(c >= 2 for c in count.values())
 
 
+def covered(points: FloatArray, poly: FloatArray, reach: float) -> bool:
+    """Whether the points (k, 3) lie within reach of the polyline along OVERSKETCH_COVER of them:
+    a piece drawn over another (_merge_parallel, core.twice_drawn)."""
+    return float(np.mean(nearest_on(points, poly)[0] <= reach)) >= OVERSKETCH_COVER
+
+
+def kept_first(stroke: int, points: FloatArray) -> tuple:
+    """Sort key of parallel edges, the one kept first: that of the earliest stroke, of one stroke's
+    the longest (a stroke drawn there and back between two nodes: the piece first along it was
+    kept, and which that was followed the way it was drawn, 07-2-2's stroke 22)."""
+    return stroke, -chord_length(points)
+
+
 def _merge_parallel(edges: list, delta: float) -> list:
     """Edges joining the same two nodes and lying within delta of each other (over-sketched runs
-    between the same nodes) are one: that of the first stroke is kept, of one stroke's the
-    longest (a stroke drawn there and back between two nodes: the piece first along it was kept,
-    and which that was followed the way it was drawn, 07-2-2's stroke 22). Returned in their
-    order."""
+    between the same nodes) are one: the first by kept_first is kept. Returned in their order."""
     kept: list = []
-    for k in sorted(range(len(edges)), key=lambda k: (edges[k][3], -chord_length(edges[k][2]))):
+    for k in sorted(range(len(edges)), key=lambda k: kept_first(edges[k][3], edges[k][2])):
         n0, n1, pts = edges[k][0], edges[k][1], edges[k][2]
         dup = False
         for f in (edges[x] for x in kept):
             if {f[0], f[1]} != {n0, n1} or n0 == n1:
                 continue
-            d, _ = nearest_on(pts, f[2])
-            if np.mean(d <= delta) >= OVERSKETCH_COVER:
+            if covered(pts, f[2], delta):
                 dup = True
                 break
         if not dup:

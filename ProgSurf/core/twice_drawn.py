@@ -18,26 +18,17 @@ the distance under which core.stroke_graph counts two strokes running side by si
 sketches this drops 34 surfaces, 23 of them reported folding (281 -> 258 folding of 2160 -> 2126);
 judged within delta itself it dropped 50, 29 folding: 10 more narrow lenses that built well
 went, a shield's crescent ornament 1.0 delta wide among them. The edge kept is that of the earlier
-stroke (of one stroke's, the longer), as _merge_parallel keeps; every chosen cycle takes it in
-place of the other, and a cycle left with one curve twice (the lens) bounds nothing and is
-dropped with the reason. A merge that would make an edge bound more than two surfaces is not made.
+stroke (of one stroke's, the longer: stroke_graph.kept_first), as _merge_parallel keeps; every
+chosen cycle takes it in place of the other, and a cycle left with one curve twice (the lens)
+bounds nothing and is dropped with the reason. A merge that would make an edge bound more than two
+surfaces is not made.
 """
 from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from .stroke_cycles import Cycle, CycleChoice
-from .stroke_graph import OVERSKETCH_COVER, SIDE_GAP, StrokeGraph
-from .stroke_nodes import nearest_on
-from .strokes import chord_length
-
-
-def _within(a: np.ndarray, b: np.ndarray, reach: float) -> bool:
-    """Whether a lies within reach of b along OVERSKETCH_COVER of a's points, and b of a."""
-    return (float(np.mean(nearest_on(a, b)[0] <= reach)) >= OVERSKETCH_COVER
-            and float(np.mean(nearest_on(b, a)[0] <= reach)) >= OVERSKETCH_COVER)
+from .stroke_graph import SIDE_GAP, StrokeGraph, covered, kept_first
 
 
 def _replaced(cycle: Cycle, merged: dict, graph: StrokeGraph) -> tuple:
@@ -69,12 +60,14 @@ def twice_drawn(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -> tup
         if e.node0 != e.node1:
             groups.setdefault(frozenset((e.node0, e.node1)), []).append(e.id)
     merged: dict = {}
+    reach = SIDE_GAP * graph.delta
     for ids in groups.values():
         if len(ids) < 2:
             continue
         kept: list = []
-        for e in sorted(ids, key=lambda k: (graph.edges[k].stroke, -chord_length(polylines[k]))):
-            into = next((f for f in kept if _within(polylines[e], polylines[f], SIDE_GAP * graph.delta)), None)
+        for e in sorted(ids, key=lambda k: kept_first(graph.edges[k].stroke, polylines[k])):
+            into = next((f for f in kept if covered(polylines[e], polylines[f], reach)
+                         and covered(polylines[f], polylines[e], reach)), None)
             if into is None:
                 kept.append(e)
                 continue
@@ -91,7 +84,8 @@ def twice_drawn(graph: StrokeGraph, choice: CycleChoice, polylines: dict) -> tup
         if len({e for e, _ in sides}) < len(sides):
             strokes = sorted({graph.edges[e].stroke for e, _ in cycle.sides})
             dropped.append((cycle, f"its sides are one curve drawn twice (strokes {strokes} within "
-                                   f"{SIDE_GAP * graph.delta:.3g} mm of each other once faired): merged, no surface between them"))
+                                   f"{reach:.3g} mm of each other once faired): merged, no surface "
+                                   f"between them"))
         else:
             cycles.append(Cycle(sides, cycle.align))
     return replace(choice, cycles=tuple(cycles), dropped=tuple(dropped)), merged

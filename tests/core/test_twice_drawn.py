@@ -1,11 +1,12 @@
 """Curves drawn twice between the same two nodes (core.twice_drawn): merged when their faired
-curves lie within delta of each other both ways, so that the lens between them is no surface and
-the surfaces on either side share one curve; a lens wider than delta stays a surface."""
+curves lie within SIDE_GAP x delta of each other both ways, so that the lens between them is no
+surface and the surfaces on either side share one curve; a wider lens stays a surface."""
 from __future__ import annotations
 
 import numpy as np
 
 from ProgSurf.core.objects import build_object
+from ProgSurf.core.pipeline import SNAP_FRACTION
 from ProgSurf.core.stroke_cycles import find_cycles
 from ProgSurf.core.stroke_graph import build_stroke_graph
 from ProgSurf.core.twice_drawn import twice_drawn
@@ -40,7 +41,7 @@ def sketch(half_width: float) -> list:
 
 def _network(half_width: float):
     strokes = sketch(half_width)
-    delta = 0.02 * float(np.linalg.norm(np.ptp(np.vstack(strokes), axis=0)))
+    delta = SNAP_FRACTION * float(np.linalg.norm(np.ptp(np.vstack(strokes), axis=0)))
     graph = build_stroke_graph(strokes, delta)
     return graph, find_cycles(graph)
 
@@ -54,10 +55,10 @@ def _lens(graph, choice):
 def test_a_lens_whose_faired_sides_coincide_is_merged_and_its_neighbours_share_the_curve():
     """The passes 1.5 delta apart at the middle are two graph edges (within delta along less than
     OVERSKETCH_COVER of them) and the cycles hold the lens between them; given faired sides that
-    lie within delta of each other (both on the middle line, sampled differently), the lens is
+    coincide (both on the middle line, sampled differently), the lens is
     dropped with its reason and both neighbours take the earlier stroke's edge, in their own
     direction round them."""
-    graph, choice = _network(0.75 * 0.02 * np.hypot(W + 12, H + 12))
+    graph, choice = _network(0.75 * SNAP_FRACTION * np.hypot(W + 12, H + 12))
     lens = _lens(graph, choice)
     (a, _), (b, _) = lens.sides
     assert len(choice.cycles) == 3
@@ -82,10 +83,10 @@ def test_a_lens_whose_faired_sides_coincide_is_merged_and_its_neighbours_share_t
 def test_a_lens_wider_than_delta_once_faired_is_a_surface_of_its_own():
     """The same passes with their own (faired) points: 1.5 delta apart, not one curve; nothing is
     merged, and the built object has the lens as a third surface."""
-    graph, choice = _network(0.75 * 0.02 * np.hypot(W + 12, H + 12))
+    graph, choice = _network(0.75 * SNAP_FRACTION * np.hypot(W + 12, H + 12))
     same, merged = twice_drawn(graph, choice, {e.id: e.points for e in graph.edges})
     assert merged == {} and same is choice
-    out = build_object(sketch(0.75 * 0.02 * np.hypot(W + 12, H + 12)))
+    out = build_object(sketch(0.75 * SNAP_FRACTION * np.hypot(W + 12, H + 12)))
     assert len(out.surfaces) == 3
     assert not any("drawn twice" in r.reason for r in out.roles)
 
@@ -93,7 +94,7 @@ def test_a_lens_wider_than_delta_once_faired_is_a_surface_of_its_own():
 def test_passes_within_delta_are_one_curve_already_in_the_graph():
     """Passes 0.4 delta apart are merged by the graph (stroke_graph._merge_parallel), and the built
     object is two surfaces on one shared curve; the later stroke is accounted for as merged."""
-    out = build_object(sketch(0.2 * 0.02 * np.hypot(W + 12, H + 12)))
+    out = build_object(sketch(0.2 * SNAP_FRACTION * np.hypot(W + 12, H + 12)))
     assert len(out.surfaces) == 2
     shared = set(out.surfaces[0].sides) & set(out.surfaces[1].sides)
     assert len(shared) == 1
@@ -104,7 +105,7 @@ def test_faired_sides_further_apart_than_the_side_by_side_gap_are_two_curves():
     """Faired sides 0.8 delta apart at the middle (within delta, beyond SIDE_GAP x delta: curves of
     one family drawn close together, as core.stroke_graph._side_by_side keeps them apart) are
     not merged: the lens stays a loop of its own."""
-    half = 0.75 * 0.02 * np.hypot(W + 12, H + 12)
+    half = 0.75 * SNAP_FRACTION * np.hypot(W + 12, H + 12)
     graph, choice = _network(half)
     (a, _), (b, _) = _lens(graph, choice).sides
     polylines = {e.id: e.points for e in graph.edges}
