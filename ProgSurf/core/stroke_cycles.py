@@ -11,7 +11,10 @@ each node and that CASSIE makes by walking the graph with node normals.
 Not every face bounds a surface: per connected part, a face that runs the other way round the
 node normals than the most faces do is the outer face of an open sheet (a grid's border), and a
 face the node normals lie along (ALIGN_MIN) is a rim such as a tube's end; both are left out.
-Dangling edges (pruned first) bound nothing; they are candidates for interior strokes.
+Dangling edges (pruned first) bound nothing; they are candidates for interior strokes. Nor do
+bridges, edges whose two sides are one face (a face walks them both ways): the face is the loops
+left when they are cut out of its walk (a shield's plate round a stud that a stroke joins to its
+rim, which was left out whole before); a bridge is no interior stroke of it (core.objects).
 """
 from __future__ import annotations
 
@@ -104,6 +107,7 @@ class CycleChoice:
     dangling : edge ids that bound nothing (pruned tree branches and bridges)
     normals  : {node id: (3,) unit normal} (nodes of degree 2 or more)
     parts    : [set of edge ids] per connected part of the non-dangling graph
+    bridges  : the dangling edge ids that are bridges (both ends on loops, one face either side)
     """
 
     cycles: tuple
@@ -111,6 +115,7 @@ class CycleChoice:
     dangling: frozenset
     normals: dict
     parts: tuple
+    bridges: frozenset = frozenset()
 
 
 def _prune(graph: StrokeGraph) -> set:
@@ -379,6 +384,28 @@ def _pinched(graph: StrokeGraph, face: list) -> list:
     return out
 
 
+def _cut_bridges(face: list) -> list:
+    """The closed walks left of a face that walks some edges both ways (bridges), with both
+    walks along each taken out: [[(edge id, reversed), ...]]. A face A, e, B, e', C (e' the way
+    back along e) is the closed walk C + A round e's first node and the closed walk B round its
+    other one: a sheet's face with a group of curves inside it that one curve joins to its
+    border (a shield's stud drawn on its plate) is its border and that group's outline."""
+    out, stack = [], [list(face)]
+    while stack:
+        f = stack.pop()
+        first: dict = {}
+        for k, (e, _) in enumerate(f):
+            if e in first:                # walked back along e: A = f[:i], B = f[i + 1:k], C = f[k + 1:]
+                i = first[e]
+                stack += [f[k + 1:] + f[:i], f[i + 1:k]]
+                break
+            first[e] = k
+        else:
+            if f:
+                out.append(f)
+    return out
+
+
 def vector_area(points: FloatArray) -> FloatArray:
     """3D vector area (3,) of the closed polygon `points` (n, 3), about its mean: its direction
     says which way round it runs."""
@@ -421,11 +448,18 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
     parts = _parts(graph, live)
     part_of = {k: p for p, edges in enumerate(parts) for k in edges}
     bridges: set = set()
+    cut: set = set()                      # the loops of faces cut at a bridge
     scored: dict = {}
     for face in faces:
         ids = [e for e, _ in face]
-        if len(set(ids)) < len(ids):      # walks an edge both ways: a bridge, bounds nothing
+        if len(set(ids)) < len(ids):
+            # walks an edge both ways: that edge is a bridge and bounds nothing, but the face
+            # round it does, without it (_cut_bridges)
             bridges |= {e for e in ids if ids.count(e) > 1}
+            for walk in _cut_bridges(face):
+                cycle = Cycle(tuple(walk), _alignment(graph, walk, normals, straight))
+                cut.add(cycle.sides)
+                scored.setdefault(part_of[walk[0][0]], []).append(cycle)
             continue
         scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), _alignment(graph, face, normals, straight)))
     chosen, dropped = [], []
@@ -455,7 +489,10 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
                         dropped.append((Cycle(tuple(loop), b), "a loop of a face that passes through one of "
                                         f"its nodes twice; it spans no surface (alignment {b:.2f})"))
             elif a <= -ALIGN_MIN:
-                dropped.append((c, "outer face of an open sheet: it runs the other way round the node normals"))
+                dropped.append((c, "outer face of an open sheet: it runs the other way round the node normals"
+                                if c.sides not in cut else
+                                "outer face of an open sheet or of curves that one curve (a bridge) joins to "
+                                "the rest: it runs the other way round the node normals"))
             elif abs(sign * _turning(graph, list(c.sides), normals, leaving) - 1.0) <= TURN_DISC_TOL:
                 # a strip that turns round a lip: its nodes' normals point every way round its
                 # vector area, yet at each corner it turns as a disc does
@@ -463,4 +500,5 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
             else:
                 dropped.append((c, f"spans no surface: its nodes' normals lie along it (alignment {a:.2f})"))
     dangling = frozenset({e.id for e in graph.edges} - live) | frozenset(bridges)
-    return CycleChoice(tuple(chosen), tuple(dropped), dangling, normals, tuple(frozenset(p) for p in parts))
+    return CycleChoice(tuple(chosen), tuple(dropped), dangling, normals, tuple(frozenset(p) for p in parts),
+                       frozenset(bridges))

@@ -621,3 +621,27 @@ def test_a_loop_screened_for_division_is_not_given_corners_again(monkeypatch):
     built = build_object(strokes)
     assert calls == [5]
     assert len(built.surfaces) == 1 and not built.divisions
+
+
+def test_a_loop_round_curves_that_one_stroke_joins_to_it_is_a_surface():
+    """A 40 mm square sheet with a 10 mm square drawn inside it, joined to the sheet's border by
+    one stroke: a bridge, which the sheet's face walks both ways (a shield's stud that a stroke
+    joins to its rim). Both squares are surfaces: the sheet's is its face with the bridge cut out,
+    its border of 5 sides (the bridge's end cuts one), one face spanning the whole sheet; the small
+    square's outline from the sheet's face is left out with the reason, and so is the bridge,
+    which is no interior stroke (it would be extended past the small square). (Before, a face
+    that walked an edge both ways was left out whole: only the small square was built.)"""
+    def square(a, b):
+        c = [[a, a, 0], [b, a, 0], [b, b, 0], [a, b, 0]]
+        return [line(c[k], c[(k + 1) % 4]) for k in range(4)]
+
+    strokes = square(0.0, 40.0) + square(15.0, 25.0) + [line([20, 0, 0], [20, 15, 0])]
+    out = build_object_and_measure(strokes)
+    build = out.build
+    assert len(build.surfaces) == 2 and not build.failed
+    assert sorted(len(s.sides) for s in build.surfaces) == [5, 5]
+    assert all(r.used and r.boundary_of for r in build.roles[:8])
+    assert not build.roles[8].used and "a bridge" in build.roles[8].reason
+    assert any("a bridge" in reason for _, reason in build.choice.dropped)
+    assert sorted(f.Area for f in out.shape.Faces) == [pytest.approx(100.0, rel=0.01), pytest.approx(1600.0, rel=0.01)]
+    assert not any(out.folds) and out.problems == []
