@@ -236,6 +236,9 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         "divided_loops": [{"side_strokes": strokes_of, "turn_deg": whole, "parts_turn_deg": worse,
                            "surfaces": build.surfaces_along(curve)}
                           for curve, strokes_of, whole, worse in build.divisions],
+        "opened_corners": [{"strokes": side_strokes(graph, pair), "surfaces": sorted(
+                               set(build.surfaces_along(pair[0])) & set(build.surfaces_along(pair[1])))}
+                           for pair in build.opened],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
         # the single surface's headline measures, over the whole object: the largest fit deviation
         # of any surface, and the largest angle between two faces' normals along any seam away from
@@ -299,6 +302,9 @@ def object_summary(report: Mapping) -> str:
     lines += [f"  loop of strokes {_once(d['side_strokes'])} divided by a curve across it into "
               f"surfaces {d['surfaces']}: one patch turned {d['turn_deg']:.0f} deg inside it, its parts "
               f"{d['parts_turn_deg']:.0f} deg at most" for d in report.get("divided_loops") or []]
+    lines += [f"  corner of surface(s) {c['surfaces']} between strokes {_once(c['strokes'])} opened: they left it "
+              f"the wrong way round the loop, just by their node (their ends eased)"
+              for c in report.get("opened_corners") or []]
     lines += _problem_lines(report)
     lines.append("wrote " + ", ".join(report["outputs"].values()))
     lines.append(report["quality"]["verdict"])

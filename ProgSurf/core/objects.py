@@ -26,13 +26,14 @@ import numpy as np
 import numpy.typing as npt
 
 from .boundary import BoundaryLoop, best_fit_plane, boundary_from_sides, stroke_end_pairs
-from .continuity import KINK_WINDOW, hermite_basis, turning_angles, unit
+from .continuity import KINK_WINDOW, turning_angles, unit
 from .coons import f1
 from .errors import ProgSurfError
 from .fairing import fair_stroke, stroke_tolerance
 from .loop_corners import choose_sides
 from .loop_split import MIN_SIDES, best_division
 from .node_tangents import node_tangents
+from .open_corners import ease_over, open_corners
 from .pipeline import BuildResult, build_network, resolve_tolerances
 from .stroke_cycles import Cycle, CycleChoice, find_cycles, vector_area
 from .stroke_graph import StrokeGraph, build_stroke_graph
@@ -141,6 +142,7 @@ class ObjectBuild:
                a node (core.node_tangents): the graph edges' curves leave their nodes along these
     divisions: per loop divided in two (core.loop_split), (the id of the curve across it, the
                input strokes of its sides, its patch's turn, the worse part's; deg)
+    opened   : per corner opened (core.open_corners), the graph edge ids of its two sides
     """
 
     graph: StrokeGraph
@@ -153,6 +155,7 @@ class ObjectBuild:
     polylines: dict = field(default_factory=dict)
     tangents: dict = field(default_factory=dict)
     divisions: tuple = ()
+    opened: tuple = ()
 
     def surfaces_along(self, edge_id: int) -> list:
         """Indices (into surfaces) of the surfaces a graph edge or a curve across (divisions) bounds."""
@@ -312,14 +315,7 @@ def _eased(pts: FloatArray) -> FloatArray:
             break
     else:
         return pts
-    h = 0.5 * reach
-    tangent = unit(point_at_length(pts, reach + h, cum) - point_at_length(pts, reach - h, cum))
-    if not tangent.any():
-        return pts
-    k = max(int(np.count_nonzero(cum < reach)), 4)
-    span = float(np.linalg.norm(at - pts[0]))
-    arc = hermite_basis(np.linspace(0.0, 1.0, k + 1)[:-1]) @ np.array([pts[0], span * chord, span * tangent, at])
-    return np.vstack([arc, at, pts[cum > reach]])
+    return ease_over(pts, share)
 
 
 def _stroke_arcs(graph: StrokeGraph, faired: list, origins: Optional[list] = None) -> dict:
@@ -568,6 +564,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     polylines = edge_polylines(graph, faired, origins, arcs)
     tangents = node_tangents(graph, faired, arcs, polylines)
     choice, merged = twice_drawn(graph, choice, polylines)
+    polylines, opened = open_corners(choice, polylines, tangents)
     timings["graph"] = time.perf_counter() - clock
     if not choice.cycles:
         raise ProgSurfError(
@@ -611,7 +608,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
                                       _curves_key(cycle, tangents)))
     timings["surfaces"] = time.perf_counter() - clock
     return ObjectBuild(graph, choice, tuple(surfaces), tuple(failed), _roles(graph, choice, surfaces, failed, merged),
-                       tol, timings, polylines, tangents, tuple(divisions))
+                       tol, timings, polylines, tangents, tuple(divisions), tuple(opened))
 
 
 def _divided(graph: StrokeGraph, loops: list, polylines: dict, uses: dict,

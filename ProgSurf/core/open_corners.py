@@ -1,0 +1,106 @@
+"""Corners of a loop whose two sides leave them the wrong way round the loop, opened (issue 18).
+
+A Coons patch maps the corners of its parameter square onto the loop's corners: where the two
+sides leave a corner the wrong way round the loop (the one that should turn left of the other
+turns right of it), the patch turns over there, whatever fills the rest. On rough VR sketches
+that is most often local: two strokes that meet nearly tangent cross once more just by their
+node, or a stroke's last few millimetres bend back past the other's, and a little further along
+the sides leave the right way. Of the 961 4-sided loops with nothing inside on the 82 CASSIE
+sketches not in ../shared (session 32), 56 had such a corner, read CORNER_READ along the sides,
+and 43 of those folded (77 %); of the other 905, 29 (3 %).
+
+:func:`open_corners` reads every corner of every chosen loop CORNER_READ along its two sides,
+against the normal of the loop's vector area; where they leave the wrong way but the right way
+read a share of OPEN_SHARES along them (the smaller first), both sides are eased over that share:
+the points before it are replaced by a cubic from the node along the chord to the point there,
+arriving in the side's own direction (:func:`ease_over`, as core.objects eases a hook at an
+edge's end). The curve is the graph's edge, so the surface on its other side gets the same
+curve and the two still share it exactly. Left as they are: a loop with more than half its
+corners wrong (its way round is in doubt: a band that twists), a corner the wrong way still at
+the largest share (a reflex corner: the loop's own shape), and a corner where one stroke runs on
+through its node (its two sides one curve, whose direction there the G1 build keeps).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .continuity import hermite_basis, unit
+from .stroke_cycles import CycleChoice, vector_area
+from .strokes import cumulative_length, point_at_length
+from .types import FloatArray
+
+CORNER_READ = 0.08
+"""A corner's sides are read this share of their lengths along them (the fold census's reading)."""
+
+OPEN_SHARES = (0.2, 0.3, 0.4)
+"""The shares of its sides' lengths over which a wrong-way corner is tried eased, the smaller
+first; the first after which its sides leave it the right way at every one of CHECKS reads up to
+that share is taken."""
+
+CHECKS = 8
+"""How many reads, evenly from 1 % of the sides to the share eased, a corner opened must pass."""
+
+
+def ease_over(pts: FloatArray, share: float) -> FloatArray:
+    """pts with the points before `share` of its length replaced by a cubic Hermite arc from its
+    start along the chord to the point there, arriving in the polyline's direction there (as many
+    points as they were, at least 4); its start kept exactly."""
+    cum = cumulative_length(pts)
+    reach = share * float(cum[-1])
+    at = point_at_length(pts, reach, cum)
+    chord = unit(at - pts[0])
+    h = 0.5 * reach
+    tangent = unit(point_at_length(pts, reach + h, cum) - point_at_length(pts, reach - h, cum))
+    if not tangent.any() or not chord.any():
+        return pts
+    k = max(int(np.count_nonzero(cum < reach)), 4)
+    span = float(np.linalg.norm(at - pts[0]))
+    arc = hermite_basis(np.linspace(0.0, 1.0, k + 1)[:-1]) @ np.array([pts[0], span * chord, span * tangent, at])
+    return np.vstack([arc, at, pts[cum > reach]])
+
+
+def _leaving(pts: FloatArray, share: float) -> FloatArray:
+    cum = cumulative_length(pts)
+    return unit(point_at_length(pts, share * float(cum[-1]), cum) - pts[0])
+
+
+def _right(leaving: FloatArray, other: FloatArray, share: float, normal: FloatArray) -> bool:
+    """Whether two sides leaving one corner (`leaving` the side after it round the loop, `other`
+    the side before it, reversed) leave it the right way round `normal`, read `share` along them."""
+    return float(np.cross(_leaving(leaving, share), _leaving(other, share)) @ normal) > 0.0
+
+
+def open_corners(choice: CycleChoice, polylines: dict, tangents: dict) -> tuple[dict, list]:
+    """(polylines with the wrong-way corners of the chosen loops opened, [(edge id, edge id)]: the
+    two sides of each corner opened; module docstring). polylines: {edge id: (n, 3) points};
+    tangents: core.node_tangents ({(edge id, end 0 or 1): direction} where the edge's stroke runs
+    on through the node there)."""
+    out = dict(polylines)
+    opened = []
+    for cycle in choice.cycles:
+        sides = cycle.polylines_from(out)
+        if len(sides) < 3:
+            continue
+        normal = unit(vector_area(np.vstack([p[:-1] for p in sides])))
+        if not normal.any():
+            continue
+
+        bad = [k for k in range(len(sides)) if not _right(sides[k], sides[k - 1][::-1], CORNER_READ, normal)]
+        if not bad or 2 * len(bad) > len(sides):
+            continue
+        for k in bad:
+            # side k starts at the corner: edge e_out's first point (end 0) unless it runs
+            # reversed; side k - 1 ends there: edge e_in's last point (end 1) unless reversed
+            (e_out, r_out), (e_in, r_in) = cycle.sides[k], cycle.sides[k - 1]
+            if (e_out, int(r_out)) in tangents or (e_in, int(not r_in)) in tangents:
+                continue                  # a stroke running on through the node
+            for share in OPEN_SHARES:
+                leaving = ease_over(sides[k], share)
+                arriving = ease_over(sides[k - 1][::-1], share)
+                if all(_right(leaving, arriving, read, normal) for read in np.linspace(0.01, share, CHECKS)):
+                    out[e_out] = leaving[::-1] if r_out else leaving
+                    out[e_in] = arriving if r_in else arriving[::-1]
+                    sides = cycle.polylines_from(out)
+                    opened.append((e_in, e_out))
+                    break
+    return out, opened
