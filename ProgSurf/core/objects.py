@@ -564,7 +564,7 @@ def build_object(strokes: Sequence[npt.ArrayLike], tol: Tolerances = Tolerances(
     polylines = edge_polylines(graph, faired, origins, arcs)
     tangents = node_tangents(graph, faired, arcs, polylines)
     choice, merged = twice_drawn(graph, choice, polylines)
-    polylines, opened = open_corners(choice, polylines, tangents)
+    polylines, opened = open_corners(choice, polylines, {e.id: e.stroke for e in graph.edges}, tangents)
     timings["graph"] = time.perf_counter() - clock
     if not choice.cycles:
         raise ProgSurfError(

@@ -17,8 +17,10 @@ arriving in the side's own direction (:func:`ease_over`, as core.objects eases a
 edge's end). The curve is the graph's edge, so the surface on its other side gets the same
 curve and the two still share it exactly. Left as they are: a loop with more than half its
 corners wrong (its way round is in doubt: a band that twists), a corner the wrong way still at
-the largest share (a reflex corner: the loop's own shape), and a corner where one stroke runs on
-through its node (its two sides one curve, whose direction there the G1 build keeps).
+the largest share (a reflex corner: the loop's own shape), and a corner where a stroke runs on
+through its node: its two sides pieces of one stroke (opened, a synthetic body's ring creased 69
+deg between the surfaces either side of it), or one side a piece whose direction there the G1
+build keeps (core.node_tangents).
 """
 from __future__ import annotations
 
@@ -70,11 +72,11 @@ def _right(leaving: FloatArray, other: FloatArray, share: float, normal: FloatAr
     return float(np.cross(_leaving(leaving, share), _leaving(other, share)) @ normal) > 0.0
 
 
-def open_corners(choice: CycleChoice, polylines: dict, tangents: dict) -> tuple[dict, list]:
+def open_corners(choice: CycleChoice, polylines: dict, strokes: dict, tangents: dict) -> tuple[dict, list]:
     """(polylines with the wrong-way corners of the chosen loops opened, [(edge id, edge id)]: the
     two sides of each corner opened; module docstring). polylines: {edge id: (n, 3) points};
-    tangents: core.node_tangents ({(edge id, end 0 or 1): direction} where the edge's stroke runs
-    on through the node there)."""
+    strokes: {edge id: the input stroke it is a piece of}; tangents: core.node_tangents ({(edge
+    id, end 0 or 1): direction} where the edge's stroke runs on through the node there)."""
     out = dict(polylines)
     opened = []
     for cycle in choice.cycles:
@@ -92,7 +94,8 @@ def open_corners(choice: CycleChoice, polylines: dict, tangents: dict) -> tuple[
             # side k starts at the corner: edge e_out's first point (end 0) unless it runs
             # reversed; side k - 1 ends there: edge e_in's last point (end 1) unless reversed
             (e_out, r_out), (e_in, r_in) = cycle.sides[k], cycle.sides[k - 1]
-            if (e_out, int(r_out)) in tangents or (e_in, int(not r_in)) in tangents:
+            if (strokes[e_out] == strokes[e_in] or (e_out, int(r_out)) in tangents
+                    or (e_in, int(not r_in)) in tangents):
                 continue                  # a stroke running on through the node
             for share in OPEN_SHARES:
                 leaving = ease_over(sides[k], share)

@@ -14,6 +14,7 @@ from ProgSurf.core.stroke_cycles import Cycle, CycleChoice
 
 DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
 LAMP = DATA / "cassie" / "10-2-1.xyz"
+STROKES = {0: 0, 1: 1, 2: 2, 3: 3}             # each side of the test loop its own stroke
 
 
 def _crossed_corner(dip: float):
@@ -45,7 +46,7 @@ def test_a_corner_whose_sides_cross_by_the_node_is_opened_and_its_patch_no_longe
     sides = choice.cycles[0].polylines_from(polylines)
     before = _turn(sides)
     assert before > FOLD_DEG
-    opened_lines, opened = open_corners(choice, polylines, {})
+    opened_lines, opened = open_corners(choice, polylines, STROKES, {})
     assert opened == [(3, 0)]
     after = _turn(choice.cycles[0].polylines_from(opened_lines))
     assert after < FOLD_DEG, (before, after)
@@ -71,7 +72,7 @@ def test_a_corner_whose_sides_cross_by_the_node_is_opened_and_its_patch_no_longe
 
 def test_a_loop_whose_corners_leave_the_right_way_is_left_as_it_is():
     choice, polylines = _crossed_corner(-0.2)     # the left side leaves the origin above the bottom
-    out, opened = open_corners(choice, polylines, {})
+    out, opened = open_corners(choice, polylines, STROKES, {})
     assert opened == []
     for e in polylines:
         np.testing.assert_array_equal(out[e], polylines[e])
@@ -79,9 +80,12 @@ def test_a_loop_whose_corners_leave_the_right_way_is_left_as_it_is():
 
 def test_a_stroke_running_on_through_the_corner_keeps_its_direction_there():
     """Where the bottom is a piece of a stroke that runs on through the corner's node (node_tangents
-    gave it a direction there), the corner is not opened: the G1 build keeps that direction."""
+    gave it a direction there), or the bottom and the left side are two pieces of one stroke, the
+    corner is not opened: the stroke's direction there is kept."""
     choice, polylines = _crossed_corner(0.2)
-    out, opened = open_corners(choice, polylines, {(0, 0): np.array([1.0, 0.0, 0.0])})
+    out, opened = open_corners(choice, polylines, STROKES, {(0, 0): np.array([1.0, 0.0, 0.0])})
+    assert opened == []
+    out, opened = open_corners(choice, polylines, {0: 0, 1: 1, 2: 2, 3: 0}, {})
     assert opened == []
 
 
