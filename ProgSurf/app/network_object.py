@@ -49,6 +49,9 @@ RESULTS = (
     ("App::PropertyStringList", "DividedLoops",
      "Loops whose one patch folded, divided by a curve across them into two surfaces: their strokes' "
      "indices, the two surfaces, how far the patch turned and its parts"),
+    ("App::PropertyStringList", "OpenedCorners",
+     "Corners whose two sides left them the wrong way round their loop, just by their node, opened "
+     "(the sides' ends eased): the two strokes' indices and the surface(s) at that corner"),
     ("App::PropertyFloat", "SeamGap", "Largest gap between two faces of a shell (mm)"),
     ("App::PropertyFloat", "FitDeviation", "Largest distance of a surface from its Coons sub-patches (mm)"),
     ("App::PropertyString", "LastError", "Why the last recompute failed (empty when it worked)"),
@@ -176,6 +179,10 @@ def write_results(obj, outcome) -> None:
                         f"{' '.join(str(k) for k in build.surfaces_along(curve))} (one patch "
                         f"turned {whole:.0f} deg inside it, its parts {worse:.0f} deg at most)"
                         for curve, loop, whole, worse in build.divisions]
+    at = [sorted(set(build.surfaces_along(a)) & set(build.surfaces_along(b))) for a, b in build.opened]
+    obj.OpenedCorners = [f"{indices(pair)}: corner of surface(s) {' '.join(map(str, ks))} opened (its sides "
+                         f"left it the wrong way round the loop, just by their node)"
+                         for pair, ks in zip(build.opened, at)]
     obj.SeamGap = max((s["seam_gap_max_mm"] for s in outcome.shells), default=0.0)
     obj.FitDeviation = max(outcome.fit_deviation_mm, default=0.0)
     obj.Quality = outcome.verdict()

@@ -117,6 +117,7 @@ class TestCubeNetwork(NetworkTestCase):
         self.assertEqual(report["strokes_used"], 12)
         self.assertEqual(report["faces"], 6)
         self.assertEqual(list(net.DividedLoops), [])
+        self.assertEqual(list(net.OpenedCorners), [])
 
     def test_moving_a_stroke_recomputes_the_shell_and_undo_restores_it(self):
         net = self.net
@@ -217,6 +218,30 @@ class TestDividedLoop(DocTestCase):
         (line,) = net.DividedLoops
         self.assertTrue(line.startswith("0 1 2 3 4 5 6: divided by a curve across it into surfaces 0 1"), line)
         self.assertEqual(sorted(i for b in net.SurfaceBoundaries for i in map(int, b.split())), list(range(7)))
+
+
+LAMP = ROOT.parent / "shared" / "data" / "cassie" / "10-2-1.xyz"
+
+
+@unittest.skipUnless(LAMP.is_file(), f"shared sketch {LAMP} not found (../shared/data, absent from a user's clone)")
+class TestOpenedCorners(DocTestCase):
+    """CASSIE 10-2-1 (a lamp drawn in VR) as stroke objects: the network object opens the two corners
+    whose strokes cross again just by their node (core.open_corners), names them in OpenedCorners,
+    and neither surface there is reported folding."""
+
+    def test_the_object_names_the_opened_corners_and_their_surfaces_do_not_fold(self):
+        from ProgSurf.io import read_strokes
+
+        made = [ps.make_stroke_from_points(p, name="Lamp", doc=self.doc, recompute=False)
+                for p in read_strokes(LAMP)]
+        net = ps.make_surface_network(doc=self.doc)
+        self.doc.recompute()
+        self.assertRecomputed(net, *made)
+        opened = {line.split(":")[0]: line for line in net.OpenedCorners}
+        for pair in ("66 68", "67 69"):
+            self.assertIn(pair, opened)
+            (k,) = [int(x) for x in opened[pair].split("surface(s) ")[1].split(" opened")[0].split()]
+            self.assertNotIn("fold", net.SurfaceQuality[k])
 
 
 if __name__ == "__main__":
