@@ -10,24 +10,25 @@ sketches not in ../shared (session 32), 56 had such a corner, read CORNER_READ a
 and 43 of those folded (77 %); of the other 905, 29 (3 %).
 
 :func:`open_corners` reads every corner of every chosen loop CORNER_READ along its two sides,
-against the normal of the loop's vector area; where they leave the wrong way but the right way
-read a share of OPEN_SHARES along them (the smaller first), both sides are eased over that share:
-the points before it are replaced by a cubic from the node along the chord to the point there,
-arriving in the side's own direction (:func:`ease_over`, as core.objects eases a hook at an
-edge's end). The curve is the graph's edge, so the surface on its other side gets the same
-curve and the two still share it exactly. Left as they are: a loop with more than half its
-corners wrong (its way round is in doubt: a band that twists), a corner the wrong way still at
-the largest share (a reflex corner: the loop's own shape), and a corner where a stroke runs on
-through its node: its two sides pieces of one stroke (opened, a synthetic body's ring creased 69
-deg between the surfaces either side of it), or one side a piece whose direction there the G1
-build keeps (core.node_tangents).
+against the normal of the loop's vector area; where they leave the wrong way, and the right way
+once both are eased over a share of OPEN_SHARES (the smaller first; the points before it replaced
+by a cubic from the node along the chord to the point there, arriving in the side's own
+direction: :func:`ease_over`, as core.objects eases a hook at an edge's end), at every one of
+CHECKS reads up to that share, the two are eased so; and only if every other loop's corner on
+those two edge ends that left the right way still does. The curve is the graph's edge, so the
+surface on its other side gets the same curve and the two still share it exactly. Left as they
+are: a loop with more than half its corners wrong (its way round is in doubt: a band that
+twists), a corner the wrong way still at the largest share (a reflex corner: the loop's own
+shape), and a corner where a stroke runs on through its node: its two sides pieces of one stroke
+(opened, a synthetic body's ring creased 69 deg between the surfaces either side of it), or one
+side a piece whose direction there the G1 build keeps (core.node_tangents).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .continuity import hermite_basis, unit
-from .stroke_cycles import CycleChoice, vector_area
+from .stroke_cycles import Cycle, CycleChoice, vector_area
 from .strokes import cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -72,38 +73,63 @@ def _right(leaving: FloatArray, other: FloatArray, share: float, normal: FloatAr
     return float(np.cross(_leaving(leaving, share), _leaving(other, share)) @ normal) > 0.0
 
 
+def _ends(cycle: Cycle, k: int) -> tuple:
+    """The two edge ends at corner k of a loop, (edge id, end 0 or 1) each: side k starts there
+    (its edge's first point, end 0, unless it runs reversed), side k - 1 ends there (its edge's
+    last point, end 1, unless reversed)."""
+    (e_out, r_out), (e_in, r_in) = cycle.sides[k], cycle.sides[k - 1]
+    return (e_out, int(r_out)), (e_in, int(not r_in))
+
+
+def _eased_end(points: FloatArray, end: int, share: float) -> FloatArray:
+    """An edge's points eased over `share` of it from its end 0 or 1 (ease_over)."""
+    return ease_over(points[::-1], share)[::-1] if end else ease_over(points, share)
+
+
 def open_corners(choice: CycleChoice, polylines: dict, strokes: dict, tangents: dict) -> tuple[dict, list]:
     """(polylines with the wrong-way corners of the chosen loops opened, [(edge id, edge id)]: the
     two sides of each corner opened; module docstring). polylines: {edge id: (n, 3) points};
     strokes: {edge id: the input stroke it is a piece of}; tangents: core.node_tangents ({(edge
     id, end 0 or 1): direction} where the edge's stroke runs on through the node there)."""
+    cycles = choice.cycles
     out = dict(polylines)
-    opened = []
-    for cycle in choice.cycles:
-        sides = cycle.polylines_from(out)
-        if len(sides) < 3:
-            continue
-        normal = unit(vector_area(np.vstack([p[:-1] for p in sides])))
-        if not normal.any():
-            continue
+    normals = [unit(vector_area(np.vstack([p[:-1] for p in c.polylines_from(out)]))) for c in cycles]
+    corners_at: dict = {}             # (edge id, end) -> [(loop, corner)] of the loops' corners there
+    for i, cycle in enumerate(cycles):
+        for k in range(len(cycle.sides)):
+            for end in _ends(cycle, k):
+                corners_at.setdefault(end, []).append((i, k))
 
-        bad = [k for k in range(len(sides)) if not _right(sides[k], sides[k - 1][::-1], CORNER_READ, normal)]
-        if not bad or 2 * len(bad) > len(sides):
+    def right(i: int, k: int, share: float, lines: dict) -> bool:
+        cycle = cycles[i]
+        (e_out, r_out), (e_in, r_in) = cycle.sides[k], cycle.sides[k - 1]
+        leaving = lines[e_out][::-1] if r_out else lines[e_out]
+        other = lines[e_in] if r_in else lines[e_in][::-1]
+        return _right(leaving, other, share, normals[i])
+
+    opened = []
+    for i, cycle in enumerate(cycles):
+        n = len(cycle.sides)
+        if n < 3 or not normals[i].any():
+            continue
+        bad = [k for k in range(n) if not right(i, k, CORNER_READ, out)]
+        if not bad or 2 * len(bad) > n:
             continue
         for k in bad:
-            # side k starts at the corner: edge e_out's first point (end 0) unless it runs
-            # reversed; side k - 1 ends there: edge e_in's last point (end 1) unless reversed
-            (e_out, r_out), (e_in, r_in) = cycle.sides[k], cycle.sides[k - 1]
-            if (strokes[e_out] == strokes[e_in] or (e_out, int(r_out)) in tangents
-                    or (e_in, int(not r_in)) in tangents):
+            ends = _ends(cycle, k)
+            (e_out, _), (e_in, _) = ends
+            if strokes[e_out] == strokes[e_in] or any(end in tangents for end in ends):
                 continue                  # a stroke running on through the node
+            # the other loops' corners on these two edge ends, that leave the right way now
+            others = [(j, m) for end in ends for j, m in corners_at[end]
+                      if (j, m) != (i, k) and normals[j].any() and right(j, m, CORNER_READ, out)]
             for share in OPEN_SHARES:
-                leaving = ease_over(sides[k], share)
-                arriving = ease_over(sides[k - 1][::-1], share)
-                if all(_right(leaving, arriving, read, normal) for read in np.linspace(0.01, share, CHECKS)):
-                    out[e_out] = leaving[::-1] if r_out else leaving
-                    out[e_in] = arriving if r_in else arriving[::-1]
-                    sides = cycle.polylines_from(out)
+                trial = dict(out)
+                for e, end in ends:
+                    trial[e] = _eased_end(out[e], end, share)
+                if (all(right(i, k, read, trial) for read in np.linspace(0.01, share, CHECKS))
+                        and all(right(j, m, CORNER_READ, trial) for j, m in others)):
+                    out = trial
                     opened.append((e_in, e_out))
                     break
     return out, opened

@@ -107,3 +107,21 @@ def test_the_lamps_two_crossed_corners_are_opened_and_their_surfaces_no_longer_f
         assert not report["surfaces"][k]["folds"]
     assert "opened: they left it the wrong way round the loop" in object_summary(report)
     assert all(shell["valid"] for shell in out.shells)
+
+
+def test_a_corner_is_not_opened_where_that_would_turn_a_neighbours_corner_over():
+    """The crossed corner's left side also bounds a second loop, on its other side, whose other side
+    leaves the same node along the bottom's line, between the left side's direction there (5 deg
+    below it) and its direction once eased (above it): opened, that loop's corner would leave the
+    wrong way. It is left as it is; alone, it is opened."""
+    choice, polylines = _crossed_corner(0.2)
+    alone, opened = open_corners(choice, polylines, STROKES, {})
+    assert opened == [(3, 0)]
+    x = np.linspace(0.0, 10.0, 11)
+    polylines[6] = np.vstack([np.linspace([60.0, 40.0, 0.0], [10.0, 0.0, 0.0], 26)[:-1], np.c_[x[::-1], 0 * x, 0 * x]])
+    neighbour = Cycle(((3, True), (6, False)), 1.0)
+    both = CycleChoice(choice.cycles + (neighbour,), (), frozenset(), {}, ())
+    out, opened = open_corners(both, polylines, {**STROKES, 6: 6}, {})
+    assert opened == []
+    for e in polylines:
+        np.testing.assert_array_equal(out[e], polylines[e])
