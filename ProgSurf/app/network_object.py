@@ -179,10 +179,9 @@ def write_results(obj, outcome) -> None:
                         f"{' '.join(str(k) for k in build.surfaces_along(curve))} (one patch "
                         f"turned {whole:.0f} deg inside it, its parts {worse:.0f} deg at most)"
                         for curve, loop, whole, worse in build.divisions]
-    at = [sorted(set(build.surfaces_along(a)) & set(build.surfaces_along(b))) for a, b in build.opened]
-    obj.OpenedCorners = [f"{indices(pair)}: corner of surface(s) {' '.join(map(str, ks))} opened (its sides "
-                         f"left it the wrong way round the loop, just by their node)"
-                         for pair, ks in zip(build.opened, at)]
+    obj.OpenedCorners = [f"{indices(pair)}: corner of surface(s) {' '.join(map(str, build.surfaces_at(pair)))} "
+                         f"opened (its sides left it the wrong way round the loop, just by their node)"
+                         for pair in build.opened]
     obj.SeamGap = max((s["seam_gap_max_mm"] for s in outcome.shells), default=0.0)
     obj.FitDeviation = max(outcome.fit_deviation_mm, default=0.0)
     obj.Quality = outcome.verdict()

@@ -236,8 +236,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
         "divided_loops": [{"side_strokes": strokes_of, "turn_deg": whole, "parts_turn_deg": worse,
                            "surfaces": build.surfaces_along(curve)}
                           for curve, strokes_of, whole, worse in build.divisions],
-        "opened_corners": [{"strokes": side_strokes(graph, pair), "surfaces": sorted(
-                               set(build.surfaces_along(pair[0])) & set(build.surfaces_along(pair[1])))}
+        "opened_corners": [{"strokes": side_strokes(graph, pair), "surfaces": build.surfaces_at(pair)}
                            for pair in build.opened],
         "faces": len(outcome.shape.Faces), "shells": list(outcome.shells),
         # the single surface's headline measures, over the whole object: the largest fit deviation

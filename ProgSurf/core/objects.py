@@ -161,6 +161,10 @@ class ObjectBuild:
         """Indices (into surfaces) of the surfaces a graph edge or a curve across (divisions) bounds."""
         return [k for k, surf in enumerate(self.surfaces) if edge_id in surf.sides]
 
+    def surfaces_at(self, corner: tuple) -> list:
+        """Indices (into surfaces) of the surfaces both edges of a corner (opened) bound."""
+        return [k for k, surf in enumerate(self.surfaces) if all(e in surf.sides for e in corner)]
+
     @property
     def rebuilt(self) -> tuple:
         """Indices (into surfaces) of the surfaces this build made; the others came from a cache."""

@@ -19,6 +19,7 @@ rim, which was left out whole before); a bridge is no interior stroke of it (cor
 from __future__ import annotations
 
 import heapq
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
@@ -107,7 +108,7 @@ class CycleChoice:
     dangling : edge ids that bound nothing (pruned tree branches and bridges)
     normals  : {node id: (3,) unit normal} (nodes of degree 2 or more)
     parts    : [set of edge ids] per connected part of the non-dangling graph
-    bridges  : the dangling edge ids that are bridges (both ends on loops, one face either side)
+    bridges  : the dangling edge ids that are bridges (both ends on loops, the same face either side)
     """
 
     cycles: tuple
@@ -384,12 +385,15 @@ def _pinched(graph: StrokeGraph, face: list) -> list:
     return out
 
 
-def _cut_bridges(face: list) -> list:
-    """The closed walks left of a face that walks some edges both ways (bridges), with both
-    walks along each taken out: [[(edge id, reversed), ...]]. A face A, e, B, e', C (e' the way
-    back along e) is the closed walk C + A round e's first node and the closed walk B round its
-    other one: a sheet's face with a group of curves inside it that one curve joins to its
-    border (a shield's stud drawn on its plate) is its border and that group's outline."""
+def _cut_bridges(face: list) -> tuple[list, set]:
+    """(the closed walks left of a face once both walks along each edge it walks both ways, a
+    bridge, are taken out: [[(edge id, reversed), ...]]; those edges). A face A, e, B, e', C (e'
+    the way back along e) is the closed walk C + A round e's first node and the closed walk B
+    round its other one: a sheet's face with a group of curves inside it that one curve joins to
+    its border (a shield's stud drawn on its plate) is its border and that group's outline. A
+    face with no bridge is ([face], {}). (Every edge the face walks twice is returned, also one
+    whose two walks a cut at another edge parts: walks e, g, e', g' cut at e leave g in each.)"""
+    twice = {e for e, n in Counter(e for e, _ in face).items() if n > 1}
     out, stack = [], [list(face)]
     while stack:
         f = stack.pop()
@@ -403,7 +407,7 @@ def _cut_bridges(face: list) -> list:
         else:
             if f:
                 out.append(f)
-    return out
+    return out, twice
 
 
 def vector_area(points: FloatArray) -> FloatArray:
@@ -451,17 +455,15 @@ def find_cycles(graph: StrokeGraph) -> CycleChoice:
     cut: set = set()                      # the loops of faces cut at a bridge
     scored: dict = {}
     for face in faces:
-        ids = [e for e, _ in face]
-        if len(set(ids)) < len(ids):
-            # walks an edge both ways: that edge is a bridge and bounds nothing, but the face
-            # round it does, without it (_cut_bridges)
-            bridges |= {e for e in ids if ids.count(e) > 1}
-            for walk in _cut_bridges(face):
-                cycle = Cycle(tuple(walk), _alignment(graph, walk, normals, straight))
+        # a face that walks an edge both ways: that edge is a bridge and bounds nothing, but the
+        # face round it does, without it (_cut_bridges)
+        walks, twice = _cut_bridges(face)
+        bridges |= twice
+        for walk in walks:
+            cycle = Cycle(tuple(walk), _alignment(graph, walk, normals, straight))
+            if twice:
                 cut.add(cycle.sides)
-                scored.setdefault(part_of[walk[0][0]], []).append(cycle)
-            continue
-        scored.setdefault(part_of[ids[0]], []).append(Cycle(tuple(face), _alignment(graph, face, normals, straight)))
+            scored.setdefault(part_of[walk[0][0]], []).append(cycle)
     chosen, dropped = [], []
     for p in sorted(scored):
         cycles = scored[p]
