@@ -132,6 +132,13 @@ def refined_surface(surface) -> _Refined:
                     (r.getUMultiplicities(), r.getVMultiplicities(), r.getUKnots(), r.getVKnots()))
 
 
+def _inside_spans(knots: FloatArray) -> FloatArray:
+    """FLUX_SAMPLES_PER_SPAN parameters evenly inside each nonzero span of a knot vector."""
+    spans = np.unique(knots)
+    return (spans[:-1, None] + np.diff(spans)[:, None]
+            * (np.arange(1, FLUX_SAMPLES_PER_SPAN + 1) / (FLUX_SAMPLES_PER_SPAN + 1))[None, :]).ravel()
+
+
 @lru_cache(maxsize=4096)
 def _band_coeffs(knots: tuple, width: float, end: int) -> FloatArray:
     """Coefficients (n,) of core.continuity.band_blend of `width` beside end 0 (or its mirror
@@ -148,7 +155,11 @@ def _band_coeffs(knots: tuple, width: float, end: int) -> FloatArray:
     c[1] = (k[4] - k[0]) / 3.0
     free = [i for i in range(2, n - 2) if k[i] < width - 1e-12]
     if free:
-        t = np.unique(np.concatenate([np.linspace(0.0, 1.0, 257), np.linspace(0.0, min(1.0, 1.5 * width), 257)]))
+        # samples inside every knot span too: a fit's knots can crowd (20 spans of 1e-5 at one
+        # parameter), and a basis function that no sample reaches is free to take any value (a
+        # coefficient of 1400 made a face of 20 km from a 600 mm dome)
+        t = np.unique(np.concatenate([np.linspace(0.0, 1.0, 257), np.linspace(0.0, min(1.0, 1.5 * width), 257),
+                                      _inside_spans(k)]))
         a = basis_matrix(k, t)
         rhs = g1.band_blend(t, width) - a[:, 1] * c[1]
         c[free] = np.linalg.lstsq(a[:, free], rhs, rcond=None)[0]
@@ -444,10 +455,7 @@ def _correction(info, seams: _Seams, widths: tuple, free: tuple, fixed: tuple):
         n = len(kn) - 4
         # samples inside every knot span too: near a node the side's knots crowd (spans of 0.003),
         # and a span without data let the flux fit ring (6 degrees at 0.5% of a seam)
-        spans = np.unique(kn)
-        inside = (spans[:-1, None] + np.diff(spans)[:, None]
-                  * (np.arange(1, FLUX_SAMPLES_PER_SPAN + 1) / (FLUX_SAMPLES_PER_SPAN + 1))[None, :]).ravel()
-        w = np.unique(np.concatenate([np.linspace(0, 1, max(FLUX_SAMPLES_PER_SPAN * n, 64)), inside,
+        w = np.unique(np.concatenate([np.linspace(0, 1, max(FLUX_SAMPLES_PER_SPAN * n, 64)), _inside_spans(kn),
                                       [0.0, H, 1.0 - H, 1.0]]))
         if free[k] or fixed[k]:
             data.append((w, np.zeros((len(w), 3)), np.zeros(len(w)), np.zeros(3), np.zeros(3)))
@@ -492,14 +500,15 @@ def _correction(info, seams: _Seams, widths: tuple, free: tuple, fixed: tuple):
 
 def _moved(refined: _Refined, delta: FloatArray, widths: tuple) -> float:
     """Largest |S1 - S0| (mm): the poles' bound, and where that exceeds nothing, exact on a grid
-    dense inside every band."""
+    dense inside every band and with samples inside every knot span (spans of 1e-5 that a uniform
+    grid steps over can hold the largest move)."""
     g = [np.linspace(0.0, 1.0, 65)]
     for wd in widths:
         g += [wd * np.linspace(0.0, 1.0, 17), 1.0 - wd * np.linspace(0.0, 1.0, 17)]
-    g = np.unique(np.concatenate(g))
+    gu, gv = (np.unique(np.concatenate(g + [_inside_spans(k)])) for k in (refined.ku, refined.kv))
     # (one product at a time: einsum of the three at once loops over every index together, 0.1 s a face)
-    moved = np.einsum("ujk,vj->uvk", np.tensordot(basis_matrix(refined.ku, g), delta, axes=(1, 0)),
-                      basis_matrix(refined.kv, g))
+    moved = np.einsum("ujk,vj->uvk", np.tensordot(basis_matrix(refined.ku, gu), delta, axes=(1, 0)),
+                      basis_matrix(refined.kv, gv))
     return float(np.linalg.norm(moved, axis=-1).max())
 
 

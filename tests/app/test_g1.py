@@ -251,3 +251,39 @@ def test_g1_puts_faces_back_to_g0_where_together_they_would_fold():
     assert not {(f.kind, f.regions) for f in face_folds(faces, sharp)} - before
     for f, f0, f1 in zip(faces, g0.faces, g1_faces):
         assert f is (f0 if f.region_id in back else f1)
+
+
+def _crowded_knots(extra=()) -> np.ndarray:
+    """A clamped cubic knot vector with even spans and 20 spans of 5e-6 at 0.9616 (as a curve fit
+    left them on a face of a sketchgen dome: its G1 face reached 20 km), and the knots `extra`."""
+    inner = np.concatenate([np.linspace(0.0, 0.96, 25)[1:], 0.9616 + 5e-6 * np.arange(21), extra])
+    return np.concatenate([[0.0] * 4, np.sort(inner), [1.0] * 4])
+
+
+@pytest.mark.parametrize("width", cad_g1.BAND_WIDTHS)
+@pytest.mark.parametrize("end", (0, 1))
+def test_band_blend_stays_bounded_where_knots_crowd(width, end):
+    from ProgSurf.core.bspline import basis_matrix
+    from ProgSurf.core.continuity import BAND_PEAK, band_blend
+
+    k = _crowded_knots(cad_g1._band_knots(width, end))     # as cad.g1._correction inserts them
+    c = cad_g1._band_coeffs(tuple(k.tolist()), width, end)
+    # B-spline coefficients of a function bounded by BAND_PEAK * width stay near that bound; a
+    # basis function that no fitting sample reached took 1400 (times a flux of 16 mm)
+    assert np.abs(c).max() <= 2.0 * BAND_PEAK * width + 1e-9
+    t = np.unique(np.concatenate([np.linspace(0.0, 1.0, 2001), np.linspace(0.9616, 0.9617, 201)]))
+    want = band_blend(t, width) if end == 0 else -band_blend(1.0 - t, width)
+    assert np.abs(basis_matrix(k, t) @ c - want).max() <= 0.05 * BAND_PEAK * width
+
+
+def test_the_bound_sees_a_move_inside_a_crowded_knot_span():
+    kv = _crowded_knots()
+    ku = np.array([0.0] * 4 + [0.5] + [1.0] * 4)
+    nu, nv = len(ku) - 4, len(kv) - 4
+    delta = np.zeros((nu, nv, 3))
+    j = 24 + 10       # a pole whose basis function lives on the crowded spans only
+    delta[:, j, 2] = 100.0
+    refined = cad_g1._Refined(np.zeros((nu, nv, 3)), ku, kv, ())
+    # the basis function peaks at 2/3 inside its support; the move there is 67 mm, which a grid
+    # stepping over spans of 5e-6 reads as 0
+    assert cad_g1._moved(refined, delta, (0.25,) * 4) >= 0.6 * 100.0
