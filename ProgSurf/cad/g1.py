@@ -27,7 +27,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..core import continuity as g1
-from ..core.bspline import basis_matrix
+from ..core.bspline import basis_matrix, span_samples
 from ..core.bspline_surface import unit_normals
 from ..core.network import OUTER_CURVES
 from ..core.strokes import sketch_diagonal
@@ -134,9 +134,7 @@ def refined_surface(surface) -> _Refined:
 
 def _inside_spans(knots: FloatArray) -> FloatArray:
     """FLUX_SAMPLES_PER_SPAN parameters evenly inside each nonzero span of a knot vector."""
-    spans = np.unique(knots)
-    return (spans[:-1, None] + np.diff(spans)[:, None]
-            * (np.arange(1, FLUX_SAMPLES_PER_SPAN + 1) / (FLUX_SAMPLES_PER_SPAN + 1))[None, :]).ravel()
+    return span_samples(np.unique(knots), FLUX_SAMPLES_PER_SPAN)
 
 
 @lru_cache(maxsize=4096)

@@ -57,6 +57,13 @@ def _basis(knots: FloatArray, t: FloatArray, degree: int, with_lower: bool) -> t
     return out, lower
 
 
+def span_samples(breaks: FloatArray, per_span: int) -> FloatArray:
+    """`per_span` parameters evenly inside each span between consecutive `breaks` (sorted): data in
+    every span, however short, so that no basis function is left without samples."""
+    b = np.asarray(breaks, dtype=float)
+    return (b[:-1, None] + np.diff(b)[:, None] * (np.arange(1, per_span + 1) / (per_span + 1))[None, :]).ravel()
+
+
 def uniform_knots(m: int, degree: int = DEGREE) -> FloatArray:
     """The clamped uniform knot vector on [0, 1] of m control points."""
     return np.concatenate([np.zeros(degree), np.linspace(0.0, 1.0, m - degree + 1), np.ones(degree)])

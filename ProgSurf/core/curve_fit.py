@@ -14,7 +14,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .bspline import DEGREE, basis_matrix
+from .bspline import DEGREE, basis_matrix, span_samples
 from .errors import FitError
 from .types import FloatArray
 
@@ -123,9 +123,7 @@ def _samples(t: FloatArray, interior: FloatArray, per_span: int = 4) -> FloatArr
     so a span crowded against a corner of the polyline cannot wander between vertices. The
     vertices are exactly t; other samples within SAMPLE_MERGE of a vertex or of each other are
     left out."""
-    bounds = np.concatenate([[0.0], interior, [1.0]])
-    inside = (bounds[:-1, None] + (bounds[1:] - bounds[:-1])[:, None]
-              * (np.arange(1, per_span + 1) / (per_span + 1))[None, :]).ravel()
+    inside = span_samples(np.concatenate([[0.0], interior, [1.0]]), per_span)
     extra = np.unique(np.concatenate([0.5 * (t[1:] + t[:-1]), inside]))
     extra = extra[np.concatenate([[True], np.diff(extra) > SAMPLE_MERGE])]
     at = np.minimum(np.maximum(np.searchsorted(t, extra), 1), len(t) - 1)
