@@ -474,6 +474,7 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
 
     nodes_kind: dict = {}
     out_edges: list = []
+    looped: set = set()     # strokes with a piece left out as a loop back to its node
     extra_points: list = []
     for i in live:
         cum = cums[i]
@@ -516,11 +517,12 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             if n0 == n1 and (chord_length(pts) <= 2 * PROXIMITY * delta
                              or ((s0 <= lo or s1 >= hi) and (s1 - s0 <= HOOK_FRACTION * lengths[i]
                                                              or _along_itself(arrays[i], cum, s0, s1, delta)))):
+                looped.add(i)
                 continue    # (a loop back to its node at the stroke's end: a ring run on past its seam)
             out_edges.append((n0, n1, pts, i, s0, s1))
 
     all_points = node_points + extra_points
-    edges = _merge_parallel(out_edges, delta)
+    edges, drawn_over = _merge_parallel(out_edges, delta)
     used_nodes = sorted({n for e in edges for n in (e[0], e[1])})
     renum = {n: k for k, n in enumerate(used_nodes)}
     strokes_at: dict = {}
@@ -544,7 +546,8 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
                         for k, (n0, n1, p, i, s0, s1) in enumerate(edges))
     for i in live:
         if not any(e.stroke == i for e in graph_edges):
-            notes.setdefault(i, "no piece of it is left between nodes")
+            note = _why_no_piece(i, drawn_over, looped)
+            notes[i] = notes[i] + "; " + note if i in notes else note
     for i, text in bridged.items():
         notes[i] = text + (f"; {notes[i]}" if i in notes else "")
     return StrokeGraph(tuple(nodes), graph_edges, float(delta), tuple(arrays), notes, merged)
@@ -669,9 +672,24 @@ def kept_first(stroke: int, points: FloatArray) -> tuple:
     return stroke, -chord_length(points)
 
 
-def _merge_parallel(edges: list, delta: float) -> list:
+def _why_no_piece(i: int, drawn_over: dict, looped: set) -> str:
+    """The note of live stroke i that has no edge left: its pieces lay over other strokes' between
+    the same nodes (drawn_over: {stroke: strokes kept instead}), looped back to their node, or what
+    the trims and hooks left of it touches one node alone."""
+    if drawn_over.get(i):
+        over = ", ".join(str(k) for k in sorted(drawn_over[i]))
+        return (f"its pieces between nodes lie within the touching distance of stroke {over}'s between the "
+                f"same nodes (drawn over it): merged into it")
+    if i in looped:
+        return "what is left of it between nodes loops back to the node it leaves: no piece of it is left"
+    return "what is left of it meets the network at one place only: no piece of it is left between nodes"
+
+
+def _merge_parallel(edges: list, delta: float) -> tuple[list, dict]:
     """Edges joining the same two nodes and lying within delta of each other (over-sketched runs
-    between the same nodes) are one: the first by kept_first is kept. Returned in their order."""
+    between the same nodes) are one: the first by kept_first is kept. Returned in their order, with
+    {stroke: the strokes whose edges were kept instead of one of its own}."""
+    drawn_over: dict = {}
     kept: list = []
     for k in sorted(range(len(edges)), key=lambda k: kept_first(edges[k][3], edges[k][2])):
         n0, n1, pts = edges[k][0], edges[k][1], edges[k][2]
@@ -681,7 +699,9 @@ def _merge_parallel(edges: list, delta: float) -> list:
                 continue
             if covered(pts, f[2], delta):
                 dup = True
+                if f[3] != edges[k][3]:
+                    drawn_over.setdefault(edges[k][3], set()).add(f[3])
                 break
         if not dup:
             kept.append(k)
-    return [edges[k] for k in sorted(kept)]
+    return [edges[k] for k in sorted(kept)], drawn_over

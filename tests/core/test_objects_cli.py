@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import re
 import os
 import subprocess
 from pathlib import Path
@@ -86,6 +87,11 @@ def test_real_sketch_network_makes_surfaces_and_accounts_for_every_stroke(path):
     assert all(reason for _, reason in build.failed)
     assert [r.index for r in build.roles] == list(range(len(strokes)))
     assert all(r.used or r.reason for r in build.roles)
+    # an unused stroke's reason says why it is unused, not only what was cut from it
+    done_to_it = re.compile(r"^(hook of [0-9.e+-]+ mm removed at its (start|end)|over-sketched run along another stroke "
+                            r"trimmed \((start|end)\))$")
+    assert all(r.used or not all(done_to_it.match(p) for p in r.reason.split("; ")) for r in build.roles), [
+        r for r in build.roles if not r.used and all(done_to_it.match(p) for p in r.reason.split("; "))]
     # each network curve bounds at most two surfaces (the manifold choice)
     uses: dict = {}
     for surf in build.surfaces:

@@ -117,6 +117,21 @@ def test_oversketched_pair_merges_and_hook_is_removed():
     assert len(short_hook.edges_of_stroke(1)) == 1
 
 
+
+def test_a_stroke_whose_pieces_are_all_drawn_over_says_so_not_only_its_hooks():
+    """Drawn over a curve between two crossings, slowly hooked at both ends (its hook points keep it
+    off the over-sketch merge's 80 %): its one piece is merged into the curve's between the same
+    nodes, and its note said only "hook ... removed" (48 unused strokes of the 82 unseen CASSIE
+    sketches had no other reason)."""
+    base = line([0, 0, 0], [10, 0, 0], 40)
+    crossing = [line([0, -3, 0], [6, 3, 0]), line([6, -3, 0], [12, 3, 0])]
+    over = np.vstack([line([3, -0.85, 0], [3, 0.05, 0], 16)[:-1], line([3, 0.05, 0], [9, 0.05, 0], 12),
+                      line([9, 0.05, 0], [9, -0.85, 0], 16)[1:]])
+    g = build_stroke_graph([base, *crossing, over], 0.3)
+    assert not g.merged and not g.edges_of_stroke(3)
+    assert "hook of 0.85 mm removed at its start" in g.notes[3]
+    assert "stroke 0's between the same nodes (drawn over it): merged into it" in g.notes[3]
+
 def test_grid_of_crossing_curves():
     g = build_stroke_graph(grid(), 0.06)
     kinds = sorted(n.kind for n in g.nodes)
