@@ -215,6 +215,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
             "seam_angle_max_deg": outcome.seam_angle_max_deg[k] if outcome.seam_angle_max_deg else None,
             "fit_allowance_mm": outcome.fit_allowance_mm[k],
+            "refilled_faces": sum(1 for f in outcome.model.surfaces[k].faces if getattr(f, "refilled", False)),
             "folds": [fold_record(f) for f in (outcome.folds[k] if outcome.folds else ())]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}
@@ -304,6 +305,9 @@ def object_summary(report: Mapping) -> str:
     lines += [f"  corner of surface(s) {c['surfaces']} between strokes {_once(c['strokes'])} opened: they left it "
               f"the wrong way round the loop, just by their node (their ends eased)"
               for c in report.get("opened_corners") or []]
+    lines += [f"  surface {surf['surface']} (bounded by strokes {_once(surf['side_strokes'])}): its Coons patch "
+              f"turned over inside it; {surf['refilled_faces']} face(s) refilled over the plane of their loop "
+              f"(sides kept)" for surf in report["surfaces"] if surf.get("refilled_faces")]
     lines += _problem_lines(report)
     lines.append("wrote " + ", ".join(report["outputs"].values()))
     lines.append(report["quality"]["verdict"])

@@ -171,11 +171,18 @@ def seam_stats(result, samples: int = SEAM_SAMPLES) -> list[SeamStat]:
 
 
 def fit_deviation(result, network, n: int = 21) -> dict:
-    """region_id -> largest |face(s,r) - Coons sub-patch(s,r)| on an n x n grid of [0,1]^2."""
+    """region_id -> largest |face(s,r) - Coons sub-patch(s,r)| on an n x n grid of [0,1]^2 (on
+    its sides only for a face refilled in its plane, cad.patch_faces.refilled_face)."""
     g = np.linspace(0.0, 1.0, n)
     ss, rr = np.meshgrid(g, g, indexing="ij")
+    border = (ss == 0.0) | (ss == 1.0) | (rr == 0.0) | (rr == 1.0)
     out = {}
     for info in result.faces:
+        if getattr(info, "refilled", False):      # its inside is not its Coons patch, by design
+            ref = np.asarray(network.evaluate_region(info.region_id, ss[border], rr[border]), dtype=float)
+            got = np.array([tuple(info.surface.value(float(a), float(b))) for a, b in zip(ss[border], rr[border])])
+            out[info.region_id] = float(np.linalg.norm(got - ref, axis=-1).max())
+            continue
         ref = np.asarray(network.evaluate_region(info.region_id, ss, rr), dtype=float)
         got = np.array([[tuple(info.surface.value(float(a), float(b))) for a, b in zip(ra, rb)]
                         for ra, rb in zip(ss, rr)])
@@ -508,6 +515,15 @@ def _inner_seam_angles(faces, sharp_edges=()) -> list:
         if len(angles):
             out.append((eid, (uses[0][0].region_id, uses[1][0].region_id), float(angles.max())))
     return out
+
+
+def lone_face_fold_deg(info) -> float:
+    """How far a face folds as _folds reads it when it is the only face of its surface: its turn
+    from its mean normal on the FOLD_DENSE grid, or its tuck on the FOLD_SAMPLES grid within
+    TUCK_REACH of its own samples' diagonal (fold beyond FOLD_FACE_DEG)."""
+    at, normals, ok = _face_points_and_normals(info, *_fold_grid())
+    reach = TUCK_REACH * float(np.linalg.norm(at.max(axis=0) - at.min(axis=0)))
+    return max(face_turn_deg(info, FOLD_DENSE), tuck_deg(normals, ok, at, reach))
 
 
 def face_turn_deg(info, n: int = FOLD_SAMPLES) -> float:

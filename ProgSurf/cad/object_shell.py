@@ -25,6 +25,7 @@ from ..core.types import Tolerances
 from ._occ import Part
 from .g1 import OFFSET_FRACTION
 from .object_g1 import across_angles, across_folds, across_maps, following, worst_side_deg
+from .patch_faces import REFILL_ROWS
 from .shared_edges import graph_curves, outer_edges
 from .shell import build_shell
 
@@ -164,7 +165,7 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     if across_g1:
         # every surface in G0, the curves each shares with another found on those faces, then G1
         # on the same curves and G0 faces (previous=) with the other surfaces' normals there
-        g0 = [build_shell(r.network, r.tol, given=g) for r, g in zip(results, given)]
+        g0 = [build_shell(r.network, r.tol, given=g, refill_rows=REFILL_ROWS["G1"]) for r, g in zip(results, given)]
         maps = across_maps(g0, [r.network for r in results], OBJECT_SEW_FRACTION * tol.fit_mm)
         # (G1 moves a face by at most OFFSET_FRACTION of the diagonal of the whole sketch, as it
         # moves a single surface's by that of its own: issue 16's bound on the deviation from G0)

@@ -21,9 +21,11 @@ import numpy as np
 
 from ..core.errors import FitError
 from ..core.types import FloatArray
-from .curves import constant_curve, join_side
+from .curves import constant_curve, join_side, to_array
 from .edges import content_digest
-from .faces import coons_surface
+from .faces import coons_surface, full_knots
+from ..core.plane_fill import plane_refill
+from ._occ import Vector
 from .surface_data import SurfaceData
 
 if TYPE_CHECKING:
@@ -52,6 +54,7 @@ class FaceInfo:
     face: object
     sides: tuple
     triangle: bool
+    refilled: bool = False      # inner poles moved in its loop's plane (refilled_face)
 
     @property
     def poles(self) -> tuple[int, int, int, int]:
@@ -111,13 +114,66 @@ def make_face(surface, what: str = "face"):
     return face
 
 
-def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") -> tuple[list, tuple]:
+REFILL_SIDE_SAMPLES = 120
+"""Points per side at which a folding face's border is read for its plane refill."""
+
+REFILL_SPANS = 16
+"""A folding face is refilled with at least this many knot spans each way (knots inserted evenly
+where it has fewer: the same surface, more poles to move)."""
+
+
+REFILL_ROWS = {"G0": (2, 1), "G1": (2,)}
+"""The rows of poles at each side a plane refill keeps, tried in turn (core.plane_fill.HELD), by
+continuity: in G1 only the refill that keeps the face's tangent plane along its sides, which the G1
+step then turns to its neighbours' (with the sides alone kept, a noisy grid over a wave unfolded one
+more surface but 2 of its 15 smooth shared sides stayed 1.5 deg off tangent, all within 0.1 before)."""
+
+
+def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"]) -> FaceInfo | None:
+    """The face with its inner poles refilled in its loop's plane (core.plane_fill), where its
+    Coons patch folds (analysis.lone_face_fold_deg beyond FOLD_FACE_DEG) and the refill does not
+    (keeping `rows` rows of poles at each side: the first of them that unfolds it); else None. Its
+    sides, and so every edge it shares, are the same curves."""
+    from .analysis import FOLD_FACE_DEG, lone_face_fold_deg
+
+    if info.triangle or lone_face_fold_deg(info) <= FOLD_FACE_DEG:
+        return None
+    surface = info.surface.copy()
+    for direction in ("U", "V"):        # a straight side's direction has one span: room to move
+        knots = getattr(surface, f"get{direction}Knots")()
+        spans = len(knots) - 1
+        if spans < REFILL_SPANS:
+            inner = np.linspace(0.0, 1.0, REFILL_SPANS + 1)[1:-1]
+            new_knots = [float(k) for k in inner if np.min(np.abs(np.asarray(knots) - k)) > 1e-6]
+            getattr(surface, f"insert{direction}Knots")(new_knots, [1] * len(new_knots), 1e-9, False)
+    poles = to_array(surface.getPoles())
+    t = np.linspace(0.0, 1.0, REFILL_SIDE_SAMPLES, endpoint=False)
+    one, nil = np.ones_like(t), np.zeros_like(t)
+    uv = np.vstack([np.column_stack([t, nil]), np.column_stack([one, t]),
+                    np.column_stack([1.0 - t, one]), np.column_stack([nil, 1.0 - t])])
+    border = np.array([tuple(surface.value(float(a), float(b))) for a, b in uv])
+    for new in plane_refill(poles, (full_knots(surface, "U"), full_knots(surface, "V")),
+                            (surface.UDegree, surface.VDegree), border, uv, held=rows):
+        refill = surface.copy()
+        for i in range(1, len(new) - 1):
+            for j in range(1, len(new[0]) - 1):
+                refill.setPole(i + 1, j + 1, Vector(*new[i, j]))
+        out = FaceInfo(info.region_id, refill, make_face(refill, f"refilled face for region {info.region_id}"),
+                       info.sides, info.triangle, True)
+        if lone_face_fold_deg(out) <= FOLD_FACE_DEG:
+            return out
+    return None
+
+
+def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
+                refill_rows: tuple = REFILL_ROWS["G0"]) -> tuple[list, tuple]:
     """The G0 face of each region (network.regions() order): the exact Coons B-spline surface of
     its four sides, each side the join of its edge curves (curves: edge id -> piece, fit_edges).
 
     cache : the earlier builds' ShellCache: a face whose inputs are unchanged is taken from it
             (`regions` for the same region view on the same curve objects, else `faces` by content).
     keep  : receives this build's `faces` and `regions` (reused and new).
+    refill_rows : the rows of poles a folding face's plane refill may keep (refilled_face)
     Returns ([FaceInfo], (reused, built))."""
     infos = []
     reused = built = 0
@@ -126,7 +182,7 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") 
         # the same region view (the network keeps it while the region is unchanged) on the same
         # curve objects makes the same face: no need to cut the sides again
         fast = cache.lookup("regions", region.id)
-        if (fast is not None and fast[0] is region and len(fast[1]) == len(used)
+        if (fast is not None and fast[0] is region and len(fast[1]) == len(used) and fast[3][-1] == refill_rows
                 and all(a is b for a, b in zip(fast[1], used))):
             info, key = fast[2], fast[3]
             reused += 1
@@ -138,7 +194,7 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") 
         corners = np.asarray(region.corners_xyz, dtype=float)
         # the face depends on its side pieces and on the very curve objects they cut
         key = (region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
-               content_digest(corners), bool(region.triangle))
+               content_digest(corners), bool(region.triangle), refill_rows)
         info = cache.lookup("faces", key)
         if info is None:
             bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
@@ -146,6 +202,7 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache") 
             surface = coons_surface(bottom, right, top, left)
             face = make_face(surface, f"face for region {region.id}")
             info = FaceInfo(region.id, surface, face, pieces, bool(region.triangle))
+            info = refilled_face(info, refill_rows) or info
             built += 1
         else:
             reused += 1
@@ -171,7 +228,7 @@ def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache",
         entry = cache.lookup("g1_shapes", key)
         if entry is None or entry[0] is not g:
             face = make_face(g.surface, f"G1 face for region {info.region_id} (use continuity G0)")
-            entry = (g, FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle))
+            entry = (g, FaceInfo(info.region_id, g.surface, face, info.sides, info.triangle, info.refilled))
         keep.g1_shapes[key] = entry
         infos.append(entry[1])
     return infos, sharp

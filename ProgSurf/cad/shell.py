@@ -29,7 +29,7 @@ from ..core.network import OUTER_CURVES
 from ..core.strokes import sketch_diagonal
 from ..core.types import FIT_FRACTION, Tolerances
 from .edges import fit_edges
-from .patch_faces import coons_faces, g1_faces
+from .patch_faces import REFILL_ROWS, coons_faces, g1_faces
 from .sewing import SewnShell, sew, sew_into, sew_tolerance, vertex_keys
 
 CONTINUITIES = ("G0", "G1")
@@ -171,7 +171,7 @@ def network_diagonal(network) -> float:
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                 previous: "ShellResult | None" = None, given: tuple | None = None,
                 across: dict | None = None, g1_limit_mm: float | None = None,
-                tight: dict | None = None) -> ShellResult:
+                tight: dict | None = None, refill_rows: tuple | None = None) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
     continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
@@ -188,6 +188,8 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                of the network; a whole object's surfaces take it of the whole sketch).
     tight    : curve id -> factor on its fit tolerance (cad.edges.fit_edges(tight=)); default: the
                previous build's, so that an edit does not loosen what an earlier build tightened.
+    refill_rows : the rows of poles a folding face's plane refill may keep (cad.patch_faces.REFILL_ROWS;
+               default that of `continuity`): a G0 build that G1 builds on takes G1's.
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
@@ -201,7 +203,8 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
         tight = dict(previous.tight) if previous is not None else {}
     curves = fit_edges(network, tol, last, stats, keep=cache, given=given, tight=tight)
     t1 = time.perf_counter()
-    infos, counts_faces = coons_faces(network, curves, last, cache)
+    infos, counts_faces = coons_faces(network, curves, last, cache,
+                                      REFILL_ROWS[continuity] if refill_rows is None else refill_rows)
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": counts_faces}
     timings = {"fit_edges": t1 - t0, "faces": t2 - t1}

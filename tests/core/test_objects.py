@@ -645,3 +645,34 @@ def test_a_loop_round_curves_that_one_stroke_joins_to_it_is_a_surface():
     assert any("a bridge" in reason for _, reason in build.choice.dropped)
     assert sorted(f.Area for f in out.shape.Faces) == [pytest.approx(100.0, rel=0.01), pytest.approx(1600.0, rel=0.01)]
     assert not any(out.folds) and out.problems == []
+
+
+def test_a_loop_whose_coons_patch_folds_over_its_plane_is_refilled_with_the_same_sides():
+    """A U-shaped loop of five strokes (a 1 x 1 notch in a 3 x 2 plate, 100 mm units, on a gentle
+    z = 1e-3 x y): every choice of corners gives a Coons patch that turns over at the notch (168
+    deg), which was the verdict. Its face is now refilled over the loop's plane (core.plane_fill):
+    no fold, the sides where they were (the fit check reads them there), the report and summary
+    say so, and the face covers the U's area."""
+    from ProgSurf.app.objects import object_summary
+
+    corners = [[(0, 0), (3, 0)], [(3, 0), (3, 2)], [(3, 2), (2, 2), (2, 1), (1, 1), (1, 2)], [(1, 2), (0, 2)],
+               [(0, 2), (0, 0)]]
+    strokes = []
+    for run in corners:
+        pts = np.vstack([line([*a, 0], [*b, 0], 30)[:-1] for a, b in zip(run[:-1], run[1:])]
+                        + [np.array([[*run[-1], 0.0]])]) * 100.0
+        pts[:, 2] = 1e-3 * pts[:, 0] * pts[:, 1]
+        strokes.append(pts)
+    out = build_object_and_measure(strokes)
+    assert len(out.build.surfaces) == 1
+    assert not any(out.folds) and out.problems == [], out.problems
+    report = object_report(out)
+    assert report["surfaces"][0]["refilled_faces"] == 1
+    assert report["fit_deviation_max_mm"] <= report["surfaces"][0]["fit_allowance_mm"]
+    assert "1 face(s) refilled over the plane of their loop" in object_summary(report)
+    # the area of z = 1e-3 x y over the U (midpoint rule, 1 mm cells): the folded patch covers more
+    x, y = np.meshgrid(np.arange(0.5, 300.0), np.arange(0.5, 200.0), indexing="ij")
+    inside = ~((x > 100.0) & (x < 200.0) & (y > 100.0))
+    truth = float(np.sqrt(1.0 + (1e-3 * y) ** 2 + (1e-3 * x) ** 2)[inside].sum())
+    area = sum(f.Area for f in out.model.shells[0].Faces)
+    assert area == pytest.approx(truth, rel=2e-3)

@@ -1,0 +1,256 @@
+"""A fold-free refill of a face whose Coons patch turns over, where its loop lies over a plane.
+
+A Coons patch (Qin & Wright Eq. 1) is linear in its sides: seen along a normal n it is the plane
+Coons patch of the sides' projections plus the Coons patch of their heights. The height part
+cannot turn a face over; where the face turns over while its loop, projected on its own plane (the
+plane of its vector area), is a simple polygon, the plane part folds: the Coons map of the square
+onto that polygon is not one to one (a reflex corner, a side that bows in, sides of very unequal
+speed). Of the 384 faces whose Coons patch folded on the 82 unseen CASSIE sketches (not in
+../shared), 172 have such a simple projected loop.
+
+A one-to-one map exists for every simple polygon: Tutte's embedding (Floater 2003, mean value
+weights) of a triangulation of the polygon onto the convex parameter square, with each boundary
+point sent to its own (s, r) on the face's sides, is one to one; its inverse is the refill's plane
+part, and its height along n is the same weighted mean of the border's heights (a plane loop gets
+a plane face). The face's poles are solved for so that it passes through the refill at their
+Greville points, its border poles held (and the next row too, where that is enough: the face
+then leaves its sides as the Coons patch did, and a neighbour across a side meets it as before),
+so that its sides, and every edge it shares, stay exactly as they were. The caller keeps a refill
+only where it does not fold (cad.patch_faces.refilled_face).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .bspline import basis_matrix
+from .types import FloatArray
+
+HELD = (2, 1)
+"""Rows of poles kept at each side, in the order the refills are tried: with the face's tangent
+plane along its sides kept, a neighbour across a side meets it as before (on the 82 unseen CASSIE
+sketches: 86 fewer folding surfaces, creases between surfaces as they were); with the sides alone
+more faces unfold (106 fewer) but 8 more creases appeared (cad.patch_faces tries them in turn)."""
+
+TARGET_POINTS = 700
+"""About this many points inside the projected loop are triangulated (their spacing h follows its
+area); the loop is resampled every h / 2."""
+
+INNER_CLEARANCE = 0.6
+"""Points of the inner grid closer than this many h to the loop are left out, so that the
+triangulation keeps the loop's own segments as edges."""
+
+
+def greville(knots: FloatArray, degree: int, count: int) -> FloatArray:
+    """The Greville abscissae (count,) of a B-spline basis of `degree` on its full knot vector."""
+    k = np.asarray(knots, dtype=float)
+    return np.array([k[i + 1:i + degree + 1].mean() for i in range(count)])
+
+
+def loop_plane(points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+    """(centre, e1, e2, n) of a closed loop (m, 3): n along its vector area (so the loop runs
+    counter-clockwise round n), e1, e2 completing a right-handed frame; None with no area."""
+    c = points.mean(axis=0)
+    area = 0.5 * np.cross(points - c, np.roll(points, -1, axis=0) - c).sum(axis=0)
+    size = float(np.linalg.norm(area))
+    if size <= 1e-300:
+        return None
+    return (c, *_frame(area / size))
+
+
+def _frame(n: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    e1 = np.cross(n, [1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.cross(n, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(n, e1), n
+
+
+def _cross2(a: FloatArray, b: FloatArray) -> FloatArray:
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def is_simple(polygon: FloatArray) -> bool:
+    """Whether a closed plane polygon (m, 2) has no two non-adjacent segments crossing."""
+    a = polygon
+    b = np.roll(polygon, -1, axis=0)
+    m = len(a)
+    for i in range(m):
+        d = b[i] - a[i]
+        s1 = _cross2(d, a - a[i])
+        s2 = _cross2(d, b - a[i])
+        s3 = _cross2(b - a, a[i] - a)
+        s4 = _cross2(b - a, b[i] - a)
+        hit = np.nonzero((s1 * s2 < 0) & (s3 * s4 < 0))[0]
+        if any(abs(int(j) - i) > 1 and {i, int(j)} != {0, m - 1} for j in hit):
+            return False
+    return True
+
+
+def inside_polygon(points: FloatArray, polygon: FloatArray) -> np.ndarray:
+    """(k,) bool: points (k, 2) inside a closed plane polygon (m, 2), by the crossings of a ray."""
+    a = polygon[None]
+    b = np.roll(polygon, -1, axis=0)[None]
+    p = points[:, None]
+    up = (a[..., 1] <= p[..., 1]) != (b[..., 1] <= p[..., 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = a[..., 0] + (p[..., 1] - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
+    return (np.count_nonzero(up & (p[..., 0] < x), axis=1) % 2) == 1
+
+
+def _distance_to_loop(points: FloatArray, polygon: FloatArray) -> FloatArray:
+    a = polygon
+    d = np.roll(polygon, -1, axis=0) - a
+    t = np.clip(((points[:, None] - a[None]) * d[None]).sum(-1) / np.maximum((d * d).sum(-1), 1e-300), 0.0, 1.0)
+    return np.linalg.norm(points[:, None] - (a[None] + t[..., None] * d[None]), axis=-1).min(axis=1)
+
+
+def _resampled(xy: FloatArray, uv: FloatArray, step: float) -> tuple[FloatArray, FloatArray]:
+    """The closed loop xy (m, 2) with values uv (m, k) at its points, resampled every ~step by
+    length."""
+    closed_xy = np.vstack([xy, xy[:1]])
+    closed_uv = np.vstack([uv, uv[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(closed_xy, axis=0), axis=1))])
+    count = max(int(np.ceil(cum[-1] / step)), 16)
+    t = np.linspace(0.0, cum[-1], count, endpoint=False)
+    return (np.column_stack([np.interp(t, cum, closed_xy[:, k]) for k in (0, 1)]),
+            np.column_stack([np.interp(t, cum, closed_uv[:, k]) for k in range(uv.shape[1])]))
+
+
+def _triangulation(border: FloatArray, h: float) -> tuple[FloatArray, np.ndarray] | None:
+    """(points (k, 2): the border (b, 2) first, then an inner grid of spacing h; triangles (t, 3)
+    counter-clockwise) of the polygon `border`, or None where a border segment is no edge."""
+    from matplotlib.tri import Triangulation     # (qhull's Delaunay; matplotlib is a dependency)
+
+    lo, hi = border.min(axis=0), border.max(axis=0)
+    gx, gy = np.meshgrid(np.arange(lo[0] + h / 2, hi[0], h), np.arange(lo[1] + h / 2, hi[1], h))
+    grid = np.column_stack([gx.ravel(), gy.ravel()])
+    grid = grid[inside_polygon(grid, border)]
+    if len(grid):
+        grid = grid[_distance_to_loop(grid, border) > INNER_CLEARANCE * h]
+    if len(grid) < 4:
+        return None
+    points = np.vstack([border, grid])
+    tri = Triangulation(points[:, 0], points[:, 1]).triangles
+    tri = tri[inside_polygon(points[tri].mean(axis=1), border)]
+    p = points[tri]
+    cw = _cross2(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) < 0
+    tri[cw] = tri[cw][:, [0, 2, 1]]
+    nb = len(border)
+    edges = np.sort(np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+    have = set(map(tuple, edges.tolist()))
+    if any((min(i, (i + 1) % nb), max(i, (i + 1) % nb)) not in have for i in range(nb)):
+        return None
+    return points, tri
+
+
+def _tutte(points: FloatArray, tri: np.ndarray, border_uv: FloatArray) -> FloatArray:
+    """Values (k, c) at every point: the border's given (b, c), the inner ones each the mean value
+    weighted mean of its neighbours' (Floater 2003: for (s, r) on a convex border, positive weights
+    give a one-to-one map)."""
+    n, nb = len(points), len(border_uv)
+    w = np.zeros((n, n))
+    for k in range(3):
+        i, j, l = tri[:, k], tri[:, (k + 1) % 3], tri[:, (k + 2) % 3]
+        vj, vl = points[j] - points[i], points[l] - points[i]
+        lj, ll = np.linalg.norm(vj, axis=1), np.linalg.norm(vl, axis=1)
+        half = np.tan(0.5 * np.arccos(np.clip((vj * vl).sum(1) / (lj * ll), -1.0, 1.0)))
+        np.add.at(w, (i, j), half / lj)
+        np.add.at(w, (i, l), half / ll)
+    inner = np.arange(nb, n)
+    system = np.diag(w[inner].sum(axis=1)) - w[np.ix_(inner, inner)]
+    return np.vstack([border_uv, np.linalg.solve(system, w[np.ix_(inner, np.arange(nb))] @ border_uv)])
+
+
+def _inverse(points: FloatArray, tri: np.ndarray, uv: FloatArray, query: FloatArray) -> FloatArray | None:
+    """The points (q, d) that the map points (k, d) -> uv (k, 2) (one to one on the triangles)
+    sends to query (q, 2), or None where the map turned a triangle over."""
+    p0, p1, p2 = uv[tri[:, 0]], uv[tri[:, 1]], uv[tri[:, 2]]
+    det = _cross2(p1 - p0, p2 - p0)
+    if np.any(det < -1e-12 * max(float(np.abs(det).max()), 1e-300)):
+        return None
+    keep = det > 1e-14
+    tri, p0, p1, p2, det = tri[keep], p0[keep], p1[keep], p2[keep], det[keep]
+    from matplotlib.tri import Triangulation
+
+    found = np.full(len(query), -1)
+    try:
+        found = Triangulation(uv[:, 0], uv[:, 1], tri).get_trifinder()(query[:, 0], query[:, 1])
+    except (ValueError, RuntimeError):    # (a triangulation its trapezoid map refuses)
+        pass
+    lost = np.nonzero(found < 0)[0]
+    rows = 256
+    for s in range(0, len(lost), rows):   # outside every triangle by round-off: the nearest one
+        q = query[lost[s:s + rows], None]
+        l0 = _cross2(p1 - q, p2 - q) / det
+        l1 = _cross2(p2 - q, p0 - q) / det
+        found[lost[s:s + rows]] = np.minimum(np.minimum(l0, l1), 1.0 - l0 - l1).argmax(axis=1)
+    a, b, c = p0[found], p1[found], p2[found]
+    l0 = _cross2(b - query, c - query) / det[found]
+    l1 = _cross2(c - query, a - query) / det[found]
+    lam = np.column_stack([l0, l1, 1.0 - l0 - l1])
+    return np.einsum("qk,qkd->qd", lam, points[tri[found]])
+
+
+def plane_refill(poles: FloatArray, knots: tuple[FloatArray, FloatArray], degrees: tuple[int, int],
+                 border: FloatArray, border_uv: FloatArray, held: tuple[int, ...] = HELD) -> list[FloatArray]:
+    """Pole grids (nu, nv, 3) of a face refilled over its loop's plane (module docstring), one per
+    entry of `held`: that many rows of poles at each side kept as they were (1: the border, the
+    sides themselves; 2: the face's tangent plane along its sides too); none where the loop does
+    not lie over that plane as a simple polygon (or holds too few poles to move).
+
+    knots, degrees : the face's full knot vectors (on [0, 1]) and degrees in s and r
+    border (m, 3)  : the face's boundary in order, bottom, right, top, left (s, r from 0 to 1 along
+                     bottom and right, back along top and left), with its (s, r) border_uv (m, 2).
+
+    The moved poles are solved for so that the face passes through the refill at their Greville
+    points (s_i, r_j) (collocation there has one solution: Schoenberg-Whitney). Placed at the
+    refill's points themselves, the poles next to a side that turns sharply (a corner inside a
+    side) left the face turned over along it."""
+    poles = np.asarray(poles, dtype=float)
+    nu, nv = poles.shape[:2]
+    plane = loop_plane(border)
+    if plane is None:
+        return []
+    c, e1, e2, n = plane
+    xy = np.column_stack([(border - c) @ e1, (border - c) @ e2])
+    if not is_simple(xy):
+        return []
+    area = 0.5 * float(np.sum(_cross2(xy, np.roll(xy, -1, axis=0))))
+    along = np.column_stack([border_uv, (border - c) @ n])
+    for h in (np.sqrt(area / TARGET_POINTS), 0.5 * np.sqrt(area / TARGET_POINTS)):
+        bxy, buv = _resampled(xy, along, 0.5 * h)
+        if len(bxy) > 4 * TARGET_POINTS:
+            return []
+        mesh = _triangulation(bxy, h)
+        if mesh is not None:
+            break
+    else:
+        return []
+    points, tri = mesh
+    # each inner point's (s, r), and its height along n, the mean value weighted mean of its
+    # neighbours' (the heights so reproduce a plane: a flat loop gets a flat face)
+    solved = _tutte(points, tri, buv)
+    uv, heights = solved[:, :2], solved[:, 2]
+    gu, gv = (greville(k, d, m) for k, d, m in zip(knots, degrees, (nu, nv)))
+    su, sv = np.meshgrid(gu, gv, indexing="ij")
+    target = _inverse(np.column_stack([points, heights]), tri, uv, np.column_stack([su.ravel(), sv.ravel()]))
+    if target is None:
+        return []
+    target = target.reshape(nu, nv, 3)
+    frame = np.stack([e1, e2, n])
+    bu_all = basis_matrix(knots[0], gu, degrees[0])
+    bv_all = basis_matrix(knots[1], gv, degrees[1])
+    out = []
+    for k in held:
+        mu, mv = nu - 2 * k, nv - 2 * k
+        if mu < 1 or mv < 1:
+            continue
+        bu, bv = bu_all[k:-k], bv_all[k:-k]
+        kept = (poles - c) @ frame.T            # (nu, nv, 3) in the loop's frame
+        kept[k:-k, k:-k] = 0.0
+        rhs = target[k:-k, k:-k] - np.einsum("jl,ilc->ijc", bv, np.einsum("ik,klc->ilc", bu, kept))
+        # bu X bv^T = rhs for the moved poles X, one coordinate at a time
+        step = np.linalg.solve(bu[:, k:-k], rhs.reshape(mu, -1)).reshape(mu, mv, 3)
+        moved = np.linalg.solve(bv[:, k:-k], step.transpose(1, 0, 2).reshape(mv, -1))
+        grid = poles.copy()
+        grid[k:-k, k:-k] = c + moved.reshape(mv, mu, 3).transpose(1, 0, 2) @ frame
+        out.append(grid)
+    return out

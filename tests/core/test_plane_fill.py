@@ -1,0 +1,111 @@
+"""The plane refill of a folding face (core.plane_fill): on a U-shaped loop, whose Coons patch
+turns over at the two inner corners of the notch, the refilled face keeps its border poles and
+turns nowhere over; a flat loop in any plane stays flat; a loop that crosses itself seen from its
+plane is left alone."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ProgSurf.core.bspline import basis_matrix
+from ProgSurf.core.bspline_surface import SurfaceDerivatives, unit_normals
+from ProgSurf.core.coons import coons_patch
+from ProgSurf.core.folds import FACE_INSET
+from ProgSurf.core.plane_fill import greville, is_simple, plane_refill
+
+POLES = 24
+
+
+def chain(*corners, n=40):
+    pts = [np.linspace(a, b, n, endpoint=False) for a, b in zip(corners[:-1], corners[1:])]
+    return np.vstack(pts + [np.asarray(corners[-1], float)[None]])
+
+
+def u_loop(size=100.0):
+    """A U of 3 x 2 units with a 1 x 1 notch, as four sides (bottom, right, top, left) whose top
+    runs into the notch and out: the Coons patch of the plane turns over at the notch."""
+    s = lambda *c: size * chain(*[np.asarray(p, float) for p in c])
+    return (s((0, 0), (3, 0)), s((3, 0), (3, 2)), s((0, 2), (1, 2), (1, 1), (2, 1), (2, 2), (3, 2)),
+            s((0, 0), (0, 2)))
+
+
+def bspline_face(sides, lift=lambda p: np.zeros(len(p))):
+    """A cubic B-spline face (poles (POLES, POLES, 3), full knots) through the Coons patch of the
+    plane sides at its Greville points, lifted by z = lift(x, y)."""
+    b, r, t, l = (np.column_stack([s, lift(s)]) for s in sides)
+    patch = coons_patch(b, r, t, l)
+    knots = np.concatenate([[0.0] * 3, np.linspace(0.0, 1.0, POLES - 2), [1.0] * 3])
+    g = greville(knots, 3, POLES)
+    at = patch.grid(g, g)
+    basis = basis_matrix(knots, g, 3)
+    poles = np.linalg.solve(basis, np.linalg.solve(basis, at.transpose(1, 0, 2).reshape(POLES, -1))
+                            .reshape(POLES, POLES, 3).transpose(1, 0, 2).reshape(POLES, -1)).reshape(POLES, POLES, 3)
+    return poles, knots
+
+
+def border_of(poles, knots, m=120):
+    t = np.linspace(0.0, 1.0, m, endpoint=False)
+    one, nil = np.ones_like(t), np.zeros_like(t)
+    uv = np.vstack([np.column_stack([t, nil]), np.column_stack([one, t]), np.column_stack([1 - t, one]),
+                    np.column_stack([nil, 1 - t])])
+    return SurfaceDerivatives(poles, knots, knots, 3, 3).evaluate(uv[:, 0], uv[:, 1])[0], uv
+
+
+def normals(poles, knots, n=33):
+    g = np.linspace(FACE_INSET, 1.0 - FACE_INSET, n)
+    s, r = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    _, ds, dr = SurfaceDerivatives(poles, knots, knots, 3, 3).evaluate(s, r)
+    return unit_normals(ds, dr)[0]
+
+
+def refill(poles, knots, held=1):
+    border, uv = border_of(poles, knots)
+    found = plane_refill(poles, (knots, knots), (3, 3), border, uv, held=(held,))
+    return found[0] if found else None
+
+
+def test_a_u_shaped_loop_turns_over_as_a_coons_patch_and_not_refilled():
+    poles, knots = bspline_face(u_loop())
+    before = normals(poles, knots)
+    assert (before[:, 2] < -0.5).any() and (before[:, 2] > 0.5).any()      # turned over somewhere
+    new = refill(poles, knots)
+    assert new is not None
+    after = normals(new, knots)
+    assert (after[:, 2] > 0.99).all()                   # a flat U, facing one way everywhere
+    np.testing.assert_array_equal(new[[0, -1]], poles[[0, -1]])      # the border poles: the sides
+    np.testing.assert_array_equal(new[:, [0, -1]], poles[:, [0, -1]])
+    assert np.abs(new[..., 2]).max() < 1e-9             # the plane's face stays in it
+    # with two rows held, the face's tangent plane along its sides is the Coons patch's too
+    two = refill(poles, knots, held=2)
+    np.testing.assert_array_equal(two[[0, 1, -2, -1]], poles[[0, 1, -2, -1]])
+    np.testing.assert_array_equal(two[:, [0, 1, -2, -1]], poles[:, [0, 1, -2, -1]])
+    assert np.abs(two[2:-2, 2:-2] - poles[2:-2, 2:-2]).max() > 1.0       # and the rest moved
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_tilted_plane_loop_gives_a_face_in_that_plane(seed):
+    """A rigid motion of the U lifted onto the plane z = 0.2 x - 0.1 y: the refilled face lies in
+    that plane (mean value weights reproduce linear heights) and faces one way."""
+    rng = np.random.default_rng(seed)
+    poles, knots = bspline_face(u_loop(), lift=lambda p: 0.2 * p[:, 0] - 0.1 * p[:, 1])
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    rot = q * np.sign(np.linalg.det(q))
+    shift = rng.normal(size=3) * 500.0
+    moved = poles @ rot.T + shift
+    new = refill(moved, knots)
+    assert new is not None
+    plane_n = rot @ (np.array([-0.2, 0.1, 1.0]) / np.linalg.norm([-0.2, 0.1, 1.0]))
+    assert np.abs((new - shift) @ plane_n).max() < 1e-6 * 300.0
+    after = normals(new, knots)
+    assert (np.abs(after @ plane_n) > 0.99).all() and len(set(np.sign(after @ plane_n))) == 1
+
+
+def test_a_loop_crossing_itself_in_its_plane_is_left_alone():
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    bow_tie = np.array([[0, 0], [1, 1], [1, 0], [0, 1]], float)
+    assert is_simple(square) and not is_simple(bow_tie)
+    # a figure of eight: its top side swings across its bottom side, in the plane
+    sides = [100.0 * chain((0, 0), (3, 0)), 100.0 * chain((3, 0), (3, 1)),
+             100.0 * chain((0, 1), (1, 1), (2, -1), (3, 1)), 100.0 * chain((0, 0), (0, 1))]
+    poles, knots = bspline_face(sides)
+    assert refill(poles, knots) is None
