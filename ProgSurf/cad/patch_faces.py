@@ -24,7 +24,7 @@ from ..core.types import FloatArray
 from .curves import constant_curve, join_side, to_array
 from .edges import content_digest
 from .faces import coons_surface, full_knots
-from ..core.plane_fill import plane_refill
+from ..core.plane_fill import HELD, plane_refill
 from ._occ import Vector
 from .surface_data import SurfaceData
 
@@ -122,7 +122,7 @@ REFILL_SPANS = 16
 where it has fewer: the same surface, more poles to move)."""
 
 
-REFILL_ROWS = {"G0": (2, 1), "G1": (2,)}
+REFILL_ROWS = {"G0": HELD, "G1": HELD[:1]}
 """The rows of poles at each side a plane refill keeps, tried in turn (core.plane_fill.HELD), by
 continuity: in G1 only the refill that keeps the face's tangent plane along its sides, which the G1
 step then turns to its neighbours' (with the sides alone kept, a noisy grid over a wave unfolded one
