@@ -14,6 +14,7 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
+from ..core.bspline import span_samples
 from ..core.curve_fit import DEGREE, fit_cubic
 from ..core.errors import FitError
 from ..core.types import FloatArray, Polyline
@@ -181,15 +182,47 @@ JUNCTION_FRACTION = 1e-11
 the side's size (1e-9 mm on a 100 mm side): round-off, at any scale."""
 
 
+JUNCTION_SAMPLES = 16
+"""Samples per knot span at which a joined side is compared before and after a junction knot is
+lowered (_smooth_junctions)."""
+
+
 def _smooth_junctions(curve, junctions: Sequence[float], tol: float = 1e-9) -> None:
     """Lower the C0 junction knots of a joined side as far as the geometry allows (to within tol mm):
-    pieces of one smoothly fitted curve re-join C2, which BRepCheck/BOP checks require (no C0 faces)."""
+    pieces of one smoothly fitted curve re-join C2, which BRepCheck/BOP checks require (no C0 faces).
+
+    OCC's removeKnot checks its tolerance at the poles it eliminates, not on the curve: it removed
+    the corner knot of two straight strokes meeting square (a plate's corner, 4 poles each), and the
+    side cut the corner by 70 mm. Each lowering is therefore checked on the curve itself (every knot
+    span sampled, both before and after) and undone where the curve moved by more than tol."""
     for u in junctions:
         for m in range(0, DEGREE):
             ks = [float(k) for k in curve.getKnots()]
             idx = next((i for i, k in enumerate(ks) if abs(k - u) <= 1e-12), None)
-            if idx is None or curve.removeKnot(idx + 1, m, tol):
+            if idx is None:
                 break
+            before = curve.copy()
+            if curve.removeKnot(idx + 1, m, tol):
+                # (removing a knot changes the curve DEGREE + 1 spans either side of it at most)
+                near = (ks[max(idx - DEGREE - 1, 0)], ks[min(idx + DEGREE + 1, len(ks) - 1)])
+                if _moved(before, curve, near) <= tol:
+                    break
+                _restore(curve, before)
+
+
+def _moved(before, after, near: tuple[float, float]) -> float:
+    """Largest distance (mm) between two B-spline curves at the same parameters in [near[0],
+    near[1]], sampled inside every knot span of either there."""
+    breaks = np.unique(np.concatenate([np.asarray(c.getKnots(), dtype=float) for c in (before, after)]
+                                      + [np.asarray(near, dtype=float)]))
+    t = span_samples(breaks[(breaks >= near[0]) & (breaks <= near[1])], JUNCTION_SAMPLES)
+    return float(max(before.value(float(x)).distanceToPoint(after.value(float(x))) for x in t))
+
+
+def _restore(curve, source) -> None:
+    """Make `curve` (a Part.BSplineCurve) the same as `source` again, in place."""
+    ks, ms = _knots_mults(source)
+    curve.buildFromPolesMultsKnots(source.getPoles(), ms, ks, source.isPeriodic(), source.Degree)
 
 
 def make_compatible(curves: Sequence) -> list:
