@@ -178,14 +178,10 @@ def fit_deviation(result, network, n: int = 21) -> dict:
     border = (ss == 0.0) | (ss == 1.0) | (rr == 0.0) | (rr == 1.0)
     out = {}
     for info in result.faces:
-        if getattr(info, "refilled", False):      # its inside is not its Coons patch, by design
-            ref = np.asarray(network.evaluate_region(info.region_id, ss[border], rr[border]), dtype=float)
-            got = np.array([tuple(info.surface.value(float(a), float(b))) for a, b in zip(ss[border], rr[border])])
-            out[info.region_id] = float(np.linalg.norm(got - ref, axis=-1).max())
-            continue
-        ref = np.asarray(network.evaluate_region(info.region_id, ss, rr), dtype=float)
-        got = np.array([[tuple(info.surface.value(float(a), float(b))) for a, b in zip(ra, rb)]
-                        for ra, rb in zip(ss, rr)])
+        # a refilled face's inside is not its Coons patch, by design: its sides are
+        s, r = (ss[border], rr[border]) if getattr(info, "refilled", False) else (ss.ravel(), rr.ravel())
+        ref = np.asarray(network.evaluate_region(info.region_id, s, r), dtype=float)
+        got = np.array([tuple(info.surface.value(float(a), float(b))) for a, b in zip(s, r)])
         out[info.region_id] = float(np.linalg.norm(got - ref, axis=-1).max())
     return out
 

@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.errors import FitError
+from ..core.plane_fill import HELD, plane_refill
 from ..core.types import FloatArray
+from ._occ import Part
 from .curves import constant_curve, join_side, to_array
 from .edges import content_digest
 from .faces import coons_surface, full_knots
-from ..core.plane_fill import HELD, plane_refill
-from ._occ import Vector
 from .surface_data import SurfaceData
 
 if TYPE_CHECKING:
@@ -154,10 +154,10 @@ def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"]) -> FaceInfo |
     border = np.array([tuple(surface.value(float(a), float(b))) for a, b in uv])
     for new in plane_refill(poles, (full_knots(surface, "U"), full_knots(surface, "V")),
                             (surface.UDegree, surface.VDegree), border, uv, held=rows):
-        refill = surface.copy()
-        for i in range(1, len(new) - 1):
-            for j in range(1, len(new[0]) - 1):
-                refill.setPole(i + 1, j + 1, Vector(*new[i, j]))
+        refill = Part.BSplineSurface()
+        refill.buildFromPolesMultsKnots(new.tolist(), surface.getUMultiplicities(), surface.getVMultiplicities(),
+                                        surface.getUKnots(), surface.getVKnots(), False, False,
+                                        surface.UDegree, surface.VDegree)
         out = FaceInfo(info.region_id, refill, make_face(refill, f"refilled face for region {info.region_id}"),
                        info.sides, info.triangle, True)
         if lone_face_fold_deg(out) <= FOLD_FACE_DEG:
