@@ -11,7 +11,7 @@ from ProgSurf.core.bspline import basis_matrix
 from ProgSurf.core.bspline_surface import SurfaceDerivatives, unit_normals
 from ProgSurf.core.coons import coons_patch
 from ProgSurf.core.folds import FACE_INSET
-from ProgSurf.core.plane_fill import greville, is_simple, plane_refill
+from ProgSurf.core.plane_fill import MAX_TILT_DEG, greville, is_simple, loop_plane, plane_refill, simple_frame
 
 POLES = 24
 
@@ -31,8 +31,8 @@ def u_loop(size=100.0):
 
 def bspline_face(sides, lift=lambda p: np.zeros(len(p))):
     """A cubic B-spline face (poles (POLES, POLES, 3), full knots) through the Coons patch of the
-    plane sides at its Greville points, lifted by z = lift(x, y)."""
-    b, r, t, l = (np.column_stack([s, lift(s)]) for s in sides)
+    plane sides at its Greville points, lifted by z = lift(x, y) (sides in space: as they are)."""
+    b, r, t, l = (s if s.shape[1] == 3 else np.column_stack([s, lift(s)]) for s in sides)
     patch = coons_patch(b, r, t, l)
     knots = np.concatenate([[0.0] * 3, np.linspace(0.0, 1.0, POLES - 2), [1.0] * 3])
     g = greville(knots, 3, POLES)
@@ -109,3 +109,53 @@ def test_a_loop_crossing_itself_in_its_plane_is_left_alone():
              100.0 * chain((0, 1), (1, 1), (2, -1), (3, 1)), 100.0 * chain((0, 0), (0, 1))]
     poles, knots = bspline_face(sides)
     assert refill(poles, knots) is None
+
+
+def folded_u(angle):
+    """The U's sides with the outer half of its right arm (x > 250) folded up about the line
+    x = 250 by `angle` degrees, over the rest of the U."""
+    t = np.radians(angle)
+
+    def fold(p):
+        r = np.clip(p[:, 0] - 250.0, 0.0, None)
+        return np.column_stack([np.minimum(p[:, 0], 250.0) + r * np.cos(t), p[:, 1], r * np.sin(t)])
+    return [fold(s) for s in u_loop()]
+
+
+@pytest.mark.parametrize("angle", [110.0, 135.0])
+def test_a_loop_crossing_itself_along_its_normal_is_refilled_seen_from_the_side(angle):
+    """Folded over, the U's loop crosses itself seen along its vector area's normal n; seen along a
+    direction d tilted from n it does not: the refilled face faces d everywhere (its Coons patch
+    turned over), and keeps its tangent plane along its sides (2 rows held; not with 1)."""
+    poles, knots = bspline_face(folded_u(angle))
+    border, _ = border_of(poles, knots)
+    c, e1, e2, n = loop_plane(border)
+    assert not is_simple(np.column_stack([(border - c) @ e1, (border - c) @ e2]))
+    d = simple_frame(border, c, n)[2]
+    assert 0.0 < np.degrees(np.arccos(d @ n)) <= MAX_TILT_DEG
+    assert (normals(poles, knots) @ d).min() < -0.5                    # the Coons patch turns over
+    new = refill(poles, knots, held=2)
+    assert new is not None
+    assert (normals(new, knots) @ d).min() > 0.0                       # the refill does not
+    np.testing.assert_array_equal(new[[0, 1, -2, -1]], poles[[0, 1, -2, -1]])
+    np.testing.assert_array_equal(new[:, [0, 1, -2, -1]], poles[:, [0, 1, -2, -1]])
+    assert refill(poles, knots, held=1) is None
+
+
+def test_is_simple_reads_every_pair_of_segments():
+    """The all-pairs test agrees with a plain loop over the pairs on random polygons."""
+    rng = np.random.default_rng(5)
+
+    def crossing(p, q, r, s):
+        c = lambda a, b, x: (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])
+        return c(p, q, r) * c(p, q, s) < 0 and c(r, s, p) * c(r, s, q) < 0
+
+    simple = 0
+    for _ in range(300):
+        poly = rng.normal(size=(int(rng.integers(4, 12)), 2))
+        m = len(poly)
+        plain = not any(crossing(poly[i], poly[(i + 1) % m], poly[j], poly[(j + 1) % m])
+                        for i in range(m) for j in range(i + 2, m) if not (i == 0 and j == m - 1))
+        assert is_simple(poly) == plain
+        simple += plain
+    assert 0 < simple < 300
