@@ -11,7 +11,8 @@ from ProgSurf.core.bspline import basis_matrix
 from ProgSurf.core.bspline_surface import SurfaceDerivatives, unit_normals
 from ProgSurf.core.coons import coons_patch
 from ProgSurf.core.folds import FACE_INSET
-from ProgSurf.core.plane_fill import MAX_TILT_DEG, greville, is_simple, loop_plane, plane_refill, simple_frame
+from ProgSurf.core.plane_fill import (MAX_TILT_DEG, greville, is_simple, loop_plane, plane_refill, simple_frame,
+                                      untangled)
 
 POLES = 24
 
@@ -159,3 +160,37 @@ def test_is_simple_reads_every_pair_of_segments():
         assert is_simple(poly) == plain
         simple += plain
     assert 0 < simple < 300
+
+
+def test_untangled_cuts_off_a_small_loop_at_its_crossing():
+    """A square whose bottom runs past its corner and whose right side starts back under it: the
+    small loop they make is cut off at the crossing, the values there interpolated along the
+    bottom; more than `most` of the length to cut off, or a loop of two big lobes, is refused."""
+    xy = np.array([[0, 0], [10.4, 0], [9.9, -0.5], [10, 10], [0, 10]], float)
+    values = np.arange(5.0)[:, None]
+    assert not is_simple(xy)
+    cut, at = untangled(xy, values, 0.02)
+    assert is_simple(cut) and len(cut) == 4
+    x = 9.9 + 0.1 * 0.5 / 10.5                    # where the right side crosses the bottom
+    np.testing.assert_allclose(cut[1], [x, 0.0], atol=1e-12)
+    np.testing.assert_allclose(at[:, 0], [0.0, x / 10.4, 3.0, 4.0], atol=1e-12)
+    assert untangled(xy, values, 0.001) is None
+    eight = np.array([[0, 0], [10, 10], [10, 0], [0, 10]], float)
+    assert untangled(eight, np.zeros((4, 1)), 0.2) is None
+
+
+def test_a_loop_with_a_small_loop_by_a_corner_is_refilled_without_it():
+    """The U's border, its bottom drawn 2 mm past a corner and back under it: crossing itself seen
+    from every side, the loop is refilled over its plane without that small loop (2 rows held
+    only): the face turns over nowhere, its border poles where they were."""
+    poles, knots = bspline_face(u_loop())
+    border, uv = border_of(poles, knots)
+    np.testing.assert_allclose(border[118:122, :2], [[295, 0], [297.5, 0], [300, 0], [300, 200 / 120]], atol=1e-9)
+    border[119], border[120] = (302.0, 0.0, 0.0), (299.0, -2.0, 0.0)
+    c, _, _, n = loop_plane(border)
+    assert simple_frame(border, c, n) is None
+    new = plane_refill(poles, (knots, knots), (3, 3), border, uv, held=(1, 2))
+    assert len(new) == 1
+    assert (normals(new[0], knots)[:, 2] > 0.99).all()
+    np.testing.assert_array_equal(new[0][[0, 1, -2, -1]], poles[[0, 1, -2, -1]])
+    np.testing.assert_array_equal(new[0][:, [0, 1, -2, -1]], poles[:, [0, 1, -2, -1]])
