@@ -58,6 +58,9 @@ RESULTS = (
     ("App::PropertyString", "Quality", "The last build's quality checks: 'quality: ok' or a warning"),
     ("App::PropertyStringList", "SurfaceQuality",
      "Per surface: what its quality checks found (folds inside it, creases with other surfaces); empty if none"),
+    ("App::PropertyIntegerList", "SurfaceRefilled",
+     "Per surface: how many of its faces were refilled over the plane of their loop, because their Coons "
+     "patch turned over (their sides kept)"),
 )
 
 
@@ -186,6 +189,7 @@ def write_results(obj, outcome) -> None:
     obj.FitDeviation = max(outcome.fit_deviation_mm, default=0.0)
     obj.Quality = outcome.verdict()
     obj.SurfaceQuality = outcome.surface_problems()
+    obj.SurfaceRefilled = outcome.refilled_faces
     obj.LastError = ""
 
 

@@ -90,6 +90,12 @@ class ObjectOutcome:
                        f"at its ends make them meet at {worst['ends_deg']:.0f} deg)")
         return out
 
+    @property
+    def refilled_faces(self) -> list:
+        """Per surface, how many of its faces were refilled over the plane of their loop because
+        their Coons patch turned over (cad.patch_faces.refilled_face; their sides kept)."""
+        return [sum(1 for f in s.faces if getattr(f, "refilled", False)) for s in self.model.surfaces]
+
     def surface_problems(self) -> list:
         """Per surface, what its checks found, one phrase (empty when none): folds inside it, creases
         with other surfaces along the curves it shares with them (model.folds_across)."""
@@ -215,7 +221,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
             "seam_angle_max_deg": outcome.seam_angle_max_deg[k] if outcome.seam_angle_max_deg else None,
             "fit_allowance_mm": outcome.fit_allowance_mm[k],
-            "refilled_faces": sum(1 for f in outcome.model.surfaces[k].faces if getattr(f, "refilled", False)),
+            "refilled_faces": outcome.refilled_faces[k],
             "folds": [fold_record(f) for f in (outcome.folds[k] if outcome.folds else ())]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}

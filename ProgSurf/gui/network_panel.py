@@ -81,6 +81,10 @@ class NetworkPanel:
             text = f"Surface {k}: " + ", ".join(s.Label for s in sides)
             if inner:
                 text += "; interior: " + ", ".join(s.Label for s in inner)
+            refilled = net.SurfaceRefilled[k] if k < len(getattr(net, "SurfaceRefilled", ())) else 0
+            if refilled:
+                text += (f"; its Coons patch turned over: {refilled} face(s) refilled over the plane of their "
+                         "loop (sides kept)")
             problem = net.SurfaceQuality[k] if k < len(getattr(net, "SurfaceQuality", ())) else ""
             if problem:
                 text += f" (warning: {problem})"

@@ -208,13 +208,37 @@ if combo_view is not None:
 grab_window("network_window_folded")
 panel.reject()
 process_events(0.3)
+# a U-shaped plate of five strokes: its Coons patch turns over at the notch, its face is refilled
+plate = App.newDocument("Plate")
+for run in ([(0, 0), (3, 0)], [(3, 0), (3, 2)], [(3, 2), (2, 2), (2, 1), (1, 1), (1, 2)], [(1, 2), (0, 2)],
+            [(0, 2), (0, 0)]):
+    pts = np.vstack([np.linspace([*a, 0], [*b, 0], 30)[:-1] for a, b in zip(run[:-1], run[1:])]
+                    + [np.array([[*run[-1], 0.0]])]) * 100.0
+    pts[:, 2] = 1e-3 * pts[:, 0] * pts[:, 1]
+    ps.make_stroke_from_points(pts, doc=plate, recompute=False)
+plate.recompute()
+Gui.runCommand("ProgSurf_SurfaceNetwork")
+process_events(0.5)
+net = [o for o in plate.Objects if getattr(o, "Type", "") == "ProgSurf::Network"][0]
+Gui.activeDocument().activeView().viewIsometric()
+Gui.SendMsgToActiveView("ViewFit")
+panel = network_panel.CURRENT
+plate_rows = [panel.surfaces.item(i).text() for i in range(panel.surfaces.count())]
+report("plate_rows", plate_rows)
+check(list(net.SurfaceRefilled) == [1] and net.Quality.startswith("quality: ok"), "one face refilled, no warning")
+check(len(plate_rows) == 1 and "1 face(s) refilled over the plane of their loop" in plate_rows[0]
+      and "warning" not in plate_rows[0], "its row says it was refilled")
+grab_window("network_window_refilled")
+panel.reject()
+process_events(0.3)
 '''
 
 
 def test_a_folded_surface_is_marked_in_the_network_panel():
     """Two loops side by side, the far side of one swinging back over the other: that surface folds
     inside; the network's verdict warns, SurfaceQuality says why for that surface alone, and the
-    panel lists it in orange with the reason."""
+    panel lists it in orange with the reason. A U-shaped plate, whose Coons patch turns over at
+    its notch, has its face refilled over the loop's plane: no warning, and its row says so."""
     require_gui()
     out = Path(SHOTS) / "network_folded" if SHOTS else None
     result = run_in_freecad_gui(FOLDED.format(root=str(ROOT)), timeout=300, out_dir=out)
