@@ -28,6 +28,8 @@ sides.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .bspline import basis_matrix
@@ -244,18 +246,25 @@ def _tutte(points: FloatArray, tri: np.ndarray, border_uv: FloatArray) -> FloatA
     """Values (k, c) at every point: the border's given (b, c), the inner ones each the mean value
     weighted mean of its neighbours' (Floater 2003: for (s, r) on a convex border, positive weights
     give a one-to-one map)."""
+    from scipy.sparse import coo_matrix, diags          # (scipy comes with matplotlib)
+    from scipy.sparse.linalg import spsolve
+
     n, nb = len(points), len(border_uv)
-    w = np.zeros((n, n))
+    rows, cols, vals = [], [], []
     for k in range(3):
         i, j, l = tri[:, k], tri[:, (k + 1) % 3], tri[:, (k + 2) % 3]
         vj, vl = points[j] - points[i], points[l] - points[i]
         lj, ll = np.linalg.norm(vj, axis=1), np.linalg.norm(vl, axis=1)
         half = np.tan(0.5 * np.arccos(np.clip((vj * vl).sum(1) / (lj * ll), -1.0, 1.0)))
-        np.add.at(w, (i, j), half / lj)
-        np.add.at(w, (i, l), half / ll)
-    inner = np.arange(nb, n)
-    system = np.diag(w[inner].sum(axis=1)) - w[np.ix_(inner, inner)]
-    return np.vstack([border_uv, np.linalg.solve(system, w[np.ix_(inner, np.arange(nb))] @ border_uv)])
+        rows += [i, i]
+        cols += [j, l]
+        vals += [half / lj, half / ll]
+    w = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)).tocsr()
+    inner = w[nb:]
+    system = diags(np.asarray(inner.sum(axis=1)).ravel()) - inner[:, nb:]
+    rhs = inner[:, :nb] @ border_uv
+    solved = spsolve(system.tocsc(), rhs)
+    return np.vstack([border_uv, solved.reshape(n - nb, -1)])
 
 
 def _inverse(points: FloatArray, tri: np.ndarray, uv: FloatArray, query: FloatArray) -> FloatArray | None:
@@ -288,6 +297,102 @@ def _inverse(points: FloatArray, tri: np.ndarray, uv: FloatArray, query: FloatAr
     return np.einsum("qk,qkd->qd", lam, points[tri[found]])
 
 
+@dataclass(frozen=True)
+class PlaneMap:
+    """A loop's one-to-one map onto the parameter square (plane_map): its triangulated polygon
+    `points` (k, 2) in the frame (centre, axes: rows e1, e2, d), their heights along d and their
+    (s, r) `uv` (k, 2); `reshaped` where the loop was seen from a tilted d or untangled (a refill
+    then keeps 2 rows of poles at each side, not fewer)."""
+
+    centre: FloatArray
+    axes: FloatArray
+    points: FloatArray
+    heights: FloatArray
+    uv: FloatArray
+    triangles: np.ndarray
+    reshaped: bool
+
+
+def plane_map(border: FloatArray, border_uv: FloatArray) -> PlaneMap | None:
+    """The map of a face's loop onto its parameter square that its plane refill inverts (module
+    docstring), or None where the loop lies over no plane as a simple polygon (simple_frame,
+    untangled) or its triangulation fails. border, border_uv: as plane_refill's."""
+    plane = loop_plane(border)
+    if plane is None:
+        return None
+    c, e1, e2, n = plane
+    frame, cut = simple_frame(border, c, n), None
+    if frame is None:
+        # crossing itself seen from every side: where it does so only in small loops (two sides
+        # that cross just by their corner), the polygon without them, seen along n
+        frame = (e1, e2, n)
+        cut = untangled(np.column_stack([(border - c) @ e1, (border - c) @ e2]),
+                        np.column_stack([border_uv, (border - c) @ n]), UNTANGLE_MOST)
+        if cut is None:
+            return None
+    # seen from the side or untangled, only the refill that keeps the face's tangent plane along
+    # its sides is tried: refilling within the border alone (held 1), 3 creases between surfaces
+    # appeared on the 82 unseen CASSIE sketches (and 10 more faces unfolded)
+    reshaped = cut is not None or float(frame[2] @ n) < 1.0 - 1e-12
+    e1, e2, d = frame
+    if cut is None:
+        xy = np.column_stack([(border - c) @ e1, (border - c) @ e2])
+        along = np.column_stack([border_uv, (border - c) @ d])
+    else:
+        xy, along = cut
+    area = 0.5 * float(np.sum(_cross2(xy, np.roll(xy, -1, axis=0))))
+    for h in (np.sqrt(area / TARGET_POINTS), 0.5 * np.sqrt(area / TARGET_POINTS)):
+        bxy, buv = _resampled(xy, along, 0.5 * h)
+        if len(bxy) > 4 * TARGET_POINTS:
+            return None
+        mesh = _triangulation(bxy, h)
+        if mesh is not None:
+            break
+    else:
+        return None
+    points, tri = mesh
+    # each inner point's (s, r), and its height along d, the mean value weighted mean of its
+    # neighbours' (the heights so reproduce a plane: a flat loop gets a flat face)
+    solved = _tutte(points, tri, buv)
+    return PlaneMap(c, np.stack([e1, e2, d]), points, solved[:, 2], solved[:, :2], tri, reshaped)
+
+
+def refill_poles(mapped: PlaneMap, poles: FloatArray, knots: tuple[FloatArray, FloatArray],
+                 degrees: tuple[int, int], held: tuple[int, ...] = HELD) -> list[FloatArray]:
+    """plane_refill's pole grids from the loop's map (plane_map), for a face of these poles, full
+    knot vectors and degrees (the same surface with more knots has the same map)."""
+    poles = np.asarray(poles, dtype=float)
+    nu, nv = poles.shape[:2]
+    c, frame = mapped.centre, mapped.axes
+    gu, gv = (greville(k, d, m) for k, d, m in zip(knots, degrees, (nu, nv)))
+    su, sv = np.meshgrid(gu, gv, indexing="ij")
+    target = _inverse(np.column_stack([mapped.points, mapped.heights]), mapped.triangles, mapped.uv,
+                      np.column_stack([su.ravel(), sv.ravel()]))
+    if target is None:
+        return []
+    target = target.reshape(nu, nv, 3)
+    bu_all = basis_matrix(knots[0], gu, degrees[0])
+    bv_all = basis_matrix(knots[1], gv, degrees[1])
+    out = []
+    for k in held:
+        if mapped.reshaped and k < 2:
+            continue
+        mu, mv = nu - 2 * k, nv - 2 * k
+        if mu < 1 or mv < 1:
+            continue
+        bu, bv = bu_all[k:-k], bv_all[k:-k]
+        kept = (poles - c) @ frame.T            # (nu, nv, 3) in the loop's frame
+        kept[k:-k, k:-k] = 0.0
+        rhs = target[k:-k, k:-k] - np.einsum("jl,ilc->ijc", bv, np.einsum("ik,klc->ilc", bu, kept))
+        # bu X bv^T = rhs for the moved poles X, one coordinate at a time
+        step = np.linalg.solve(bu[:, k:-k], rhs.reshape(mu, -1)).reshape(mu, mv, 3)
+        moved = np.linalg.solve(bv[:, k:-k], step.transpose(1, 0, 2).reshape(mv, -1))
+        grid = poles.copy()
+        grid[k:-k, k:-k] = c + moved.reshape(mv, mu, 3).transpose(1, 0, 2) @ frame
+        out.append(grid)
+    return out
+
+
 def plane_refill(poles: FloatArray, knots: tuple[FloatArray, FloatArray], degrees: tuple[int, int],
                  border: FloatArray, border_uv: FloatArray, held: tuple[int, ...] = HELD) -> list[FloatArray]:
     """Pole grids (nu, nv, 3) of a face refilled over its loop's plane (module docstring), one per
@@ -307,68 +412,5 @@ def plane_refill(poles: FloatArray, knots: tuple[FloatArray, FloatArray], degree
     side) left the face turned over along it."""
     poles = np.asarray(poles, dtype=float)
     nu, nv = poles.shape[:2]
-    plane = loop_plane(border)
-    if plane is None:
-        return []
-    c, e1, e2, n = plane
-    frame, cut = simple_frame(border, c, n), None
-    if frame is None:
-        # crossing itself seen from every side: where it does so only in small loops (two sides
-        # that cross just by their corner), the polygon without them, seen along n
-        frame = (e1, e2, n)
-        cut = untangled(np.column_stack([(border - c) @ e1, (border - c) @ e2]),
-                        np.column_stack([border_uv, (border - c) @ n]), UNTANGLE_MOST)
-        if cut is None:
-            return []
-    # seen from the side or untangled, only the refill that keeps the face's tangent plane along
-    # its sides is tried: refilling within the border alone (held 1), 3 creases between surfaces
-    # appeared on the 82 unseen CASSIE sketches (and 10 more faces unfolded)
-    reshaped = cut is not None or float(frame[2] @ n) < 1.0 - 1e-12
-    e1, e2, n = frame
-    if cut is None:
-        xy = np.column_stack([(border - c) @ e1, (border - c) @ e2])
-        along = np.column_stack([border_uv, (border - c) @ n])
-    else:
-        xy, along = cut
-    area = 0.5 * float(np.sum(_cross2(xy, np.roll(xy, -1, axis=0))))
-    for h in (np.sqrt(area / TARGET_POINTS), 0.5 * np.sqrt(area / TARGET_POINTS)):
-        bxy, buv = _resampled(xy, along, 0.5 * h)
-        if len(bxy) > 4 * TARGET_POINTS:
-            return []
-        mesh = _triangulation(bxy, h)
-        if mesh is not None:
-            break
-    else:
-        return []
-    points, tri = mesh
-    # each inner point's (s, r), and its height along n, the mean value weighted mean of its
-    # neighbours' (the heights so reproduce a plane: a flat loop gets a flat face)
-    solved = _tutte(points, tri, buv)
-    uv, heights = solved[:, :2], solved[:, 2]
-    gu, gv = (greville(k, d, m) for k, d, m in zip(knots, degrees, (nu, nv)))
-    su, sv = np.meshgrid(gu, gv, indexing="ij")
-    target = _inverse(np.column_stack([points, heights]), tri, uv, np.column_stack([su.ravel(), sv.ravel()]))
-    if target is None:
-        return []
-    target = target.reshape(nu, nv, 3)
-    frame = np.stack([e1, e2, n])
-    bu_all = basis_matrix(knots[0], gu, degrees[0])
-    bv_all = basis_matrix(knots[1], gv, degrees[1])
-    out = []
-    for k in held:
-        if reshaped and k < 2:
-            continue
-        mu, mv = nu - 2 * k, nv - 2 * k
-        if mu < 1 or mv < 1:
-            continue
-        bu, bv = bu_all[k:-k], bv_all[k:-k]
-        kept = (poles - c) @ frame.T            # (nu, nv, 3) in the loop's frame
-        kept[k:-k, k:-k] = 0.0
-        rhs = target[k:-k, k:-k] - np.einsum("jl,ilc->ijc", bv, np.einsum("ik,klc->ilc", bu, kept))
-        # bu X bv^T = rhs for the moved poles X, one coordinate at a time
-        step = np.linalg.solve(bu[:, k:-k], rhs.reshape(mu, -1)).reshape(mu, mv, 3)
-        moved = np.linalg.solve(bv[:, k:-k], step.transpose(1, 0, 2).reshape(mv, -1))
-        grid = poles.copy()
-        grid[k:-k, k:-k] = c + moved.reshape(mv, mu, 3).transpose(1, 0, 2) @ frame
-        out.append(grid)
-    return out
+    mapped = plane_map(border, border_uv)
+    return [] if mapped is None else refill_poles(mapped, poles, knots, degrees, held)
