@@ -4,7 +4,10 @@ why). In the real GUI under Xvfb:
 - a square drawn with its right side as an S that runs back down over part of its height (so the
   Coons patch turns over next to it), and one interior stroke near the left side: that stroke is
   accepted (the fold was there before it), the strip it cuts off on the left is sound and the rest
-  turns over (180 deg), so the surface warns with one face failing and one passing. (It used the
+  turns over (180 deg), so the surface warns with one face failing and one passing. Built in G1:
+  since session 36 the G0 build refills that face over its plane with finer knots
+  (cad.patch_faces.REFILL_SPANS) and it no longer folds; G1's refill keeps the face's tangent plane
+  along its sides, which turns over along the S. (It used the
   CASSIE VR sketch 07-2-2 without its stroke 45 until session 30: which of its strokes are kept,
   and so how many of its faces fail, changed with the stroke fairing (5 faces, 3 failing, then 2
   faces, both failing): the test depended on a real sketch's accidents and failed in CI.) The
@@ -72,6 +75,7 @@ def orange_share(path):
 doc = App.newDocument("Failing")
 strokes = make.make_strokes_from_file({sketch!r}, doc=doc)
 surface = make.make_surface(boundary=strokes[:4], interior=strokes[4:], filter_mm=0, snap_mm=0, fit_mm=0)
+surface.Continuity = "G1"          # (in G0 the folding face is refilled over its plane: no fold)
 for s in strokes:                  # the strokes are drawn over the faces
     s.ViewObject.Visibility = False
 doc.recompute()
