@@ -210,7 +210,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
     from ProgSurf.io.report import _clean
 
     build, graph = outcome.build, outcome.build.graph
-    surfaces = []
+    surfaces, refilled = [], outcome.refilled_faces
     for k, surf in enumerate(build.surfaces):
         n_faces = sum(1 for owner in outcome.model.face_owner if owner == k)
         surfaces.append({
@@ -221,7 +221,7 @@ def object_report(outcome: ObjectOutcome, *, inputs: Sequence[str] = (), outputs
             "faces": n_faces, "fit_deviation_max_mm": outcome.fit_deviation_mm[k],
             "seam_angle_max_deg": outcome.seam_angle_max_deg[k] if outcome.seam_angle_max_deg else None,
             "fit_allowance_mm": outcome.fit_allowance_mm[k],
-            "refilled_faces": outcome.refilled_faces[k],
+            "refilled_faces": refilled[k],
             "folds": [fold_record(f) for f in (outcome.folds[k] if outcome.folds else ())]})
     strokes = [{"index": r.index, "used": r.used, "boundary_of": list(r.boundary_of),
                 "interior_to": list(r.interior_to), "reason": r.reason, "summary": r.describe()}

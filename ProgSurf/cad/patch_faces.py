@@ -122,9 +122,9 @@ REFILL_SPANS = (16, 32, 64)
 where it has fewer: the same surface, more poles to move), tried in turn until a refill does not
 fold. With the rows held at its sides, a refill with too few poles kept turning over next to them:
 of the refills that still folded with 16 spans on the 82 unseen CASSIE sketches, 154 of 173 did
-so within a tenth of the face from a side; with 32, then 64 spans too, 32 more surfaces unfolded
-(230 -> 203, the loop's plane map made once for all three; creases between surfaces 53 -> 54;
-build time +3 %)."""
+so within a tenth of the face from a side; with 32, then 64 spans too, 29 more surfaces unfolded
+(230 -> 201, each row count tried with all three before the next one; the loop's plane map made
+once for all; creases between surfaces 53 -> 52; build time +8 %)."""
 
 
 REFILL_ROWS = {"G0": HELD, "G1": HELD[:1]}
@@ -134,12 +134,12 @@ step then turns to its neighbours' (with the sides alone kept, a noisy grid over
 more surface but 2 of its 15 smooth shared sides stayed 1.5 deg off tangent, all within 0.1 before)."""
 
 
-def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"]) -> FaceInfo | None:
+def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"], spans: tuple = REFILL_SPANS) -> FaceInfo | None:
     """The face with its inner poles refilled in its loop's plane (core.plane_fill), where its
     Coons patch folds (analysis.lone_face_fold_deg beyond FOLD_FACE_DEG) and the refill does not
-    (keeping `rows` rows of poles at each side, with REFILL_SPANS knot spans in turn: the first
-    refill that unfolds it); else None. Its sides, and so every edge it shares, are the same
-    curves."""
+    (keeping each of `rows` rows of poles at each side in turn, each with at least `spans` knot
+    spans each way in turn: the first refill that unfolds it); else None. Its sides, and so every
+    edge it shares, are the same curves."""
     from .analysis import FOLD_FACE_DEG, lone_face_fold_deg
 
     if info.triangle or lone_face_fold_deg(info) <= FOLD_FACE_DEG:
@@ -152,25 +152,30 @@ def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"]) -> FaceInfo |
     mapped = plane_map(border, uv)      # the loop's map: the same for every knot vector below
     if mapped is None:
         return None
-    for spans in REFILL_SPANS:
-        surface = info.surface.copy()
-        for direction in ("U", "V"):    # a straight side's direction has one span: room to move
-            knots = getattr(surface, f"get{direction}Knots")()
-            if len(knots) - 1 < spans:
-                inner = np.linspace(0.0, 1.0, spans + 1)[1:-1]
-                new_knots = [float(k) for k in inner if np.min(np.abs(np.asarray(knots) - k)) > 1e-6]
-                getattr(surface, f"insert{direction}Knots")(new_knots, [1] * len(new_knots), 1e-9, False)
-        for new in refill_poles(mapped, to_array(surface.getPoles()),
-                                (full_knots(surface, "U"), full_knots(surface, "V")),
-                                (surface.UDegree, surface.VDegree), held=rows):
-            refill = Part.BSplineSurface()
-            refill.buildFromPolesMultsKnots(new.tolist(), surface.getUMultiplicities(),
-                                            surface.getVMultiplicities(), surface.getUKnots(),
-                                            surface.getVKnots(), False, False, surface.UDegree, surface.VDegree)
-            out = FaceInfo(info.region_id, refill, make_face(refill, f"refilled face for region {info.region_id}"),
-                           info.sides, info.triangle, True)
-            if lone_face_fold_deg(out) <= FOLD_FACE_DEG:
-                return out
+    for held in rows:
+        for level, least in enumerate(spans):
+            surface = info.surface.copy()
+            inserted = False
+            for direction in ("U", "V"):    # a straight side's direction has one span: room to move
+                knots = getattr(surface, f"get{direction}Knots")()
+                if len(knots) - 1 < least:
+                    inner = np.linspace(0.0, 1.0, least + 1)[1:-1]
+                    new_knots = [float(k) for k in inner if np.min(np.abs(np.asarray(knots) - k)) > 1e-6]
+                    getattr(surface, f"insert{direction}Knots")(new_knots, [1] * len(new_knots), 1e-9, False)
+                    inserted = True
+            if level and not inserted:      # the same poles as the level before: the same refills
+                continue
+            for new in refill_poles(mapped, to_array(surface.getPoles()),
+                                    (full_knots(surface, "U"), full_knots(surface, "V")),
+                                    (surface.UDegree, surface.VDegree), held=(held,)):
+                refill = Part.BSplineSurface()
+                refill.buildFromPolesMultsKnots(new.tolist(), surface.getUMultiplicities(),
+                                                surface.getVMultiplicities(), surface.getUKnots(),
+                                                surface.getVKnots(), False, False, surface.UDegree, surface.VDegree)
+                out = FaceInfo(info.region_id, refill, make_face(refill, f"refilled face for region {info.region_id}"),
+                               info.sides, info.triangle, True)
+                if lone_face_fold_deg(out) <= FOLD_FACE_DEG:
+                    return out
     return None
 
 

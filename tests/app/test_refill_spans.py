@@ -5,12 +5,10 @@ core.plane_fill.HELD[:1]); with 64 it does not, and its sides are the same curve
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 import FreeCAD
 import Part
 
-import ProgSurf.cad.patch_faces as patch_faces
 from ProgSurf.cad.analysis import FOLD_FACE_DEG, lone_face_fold_deg
 from ProgSurf.cad.patch_faces import FaceInfo, make_face, refilled_face
 from ProgSurf.core.bspline import basis_matrix
@@ -51,15 +49,12 @@ def _border(surface, m=50):
                      [(x, 0.0) for x in t] + [(1.0, x) for x in t] + [(x, 1.0) for x in t] + [(0.0, x) for x in t]])
 
 
-def test_a_slot_refilled_with_16_spans_folds_with_64_it_does_not(monkeypatch):
+def test_a_slot_refilled_with_16_spans_folds_with_64_it_does_not():
     info = _slot_face()
     assert lone_face_fold_deg(info) > FOLD_FACE_DEG
-    with monkeypatch.context() as m:
-        m.setattr(patch_faces, "REFILL_SPANS", (16,))
-        assert refilled_face(info, rows=(2,)) is None
-    out = refilled_face(info, rows=(2,))
+    assert refilled_face(info, rows=(2,), spans=(16,)) is None
+    out = refilled_face(info, rows=(2,))                # REFILL_SPANS: 16, 32, then 64
     assert out is not None and out.refilled
     assert lone_face_fold_deg(out) <= FOLD_FACE_DEG
     assert (out.surface.NbUPoles, out.surface.NbVPoles) == (67, 67)
     np.testing.assert_allclose(_border(out.surface), _border(info.surface), atol=1e-9)
-

@@ -164,19 +164,47 @@ def test_is_simple_reads_every_pair_of_segments():
 
 def test_untangled_cuts_off_a_small_loop_at_its_crossing():
     """A square whose bottom runs past its corner and whose right side starts back under it: the
-    small loop they make is cut off at the crossing, the values there interpolated along the
-    bottom; more than `most` of the length to cut off, or a loop of two big lobes, is refused."""
+    small loop they make (1.70 long: from the crossing along the bottom, back, and up the right
+    side to it) is cut off at the crossing, the values there interpolated along the bottom; where
+    that is more than `most` of the length, or the polygon runs clockwise, it is refused."""
     xy = np.array([[0, 0], [10.4, 0], [9.9, -0.5], [10, 10], [0, 10]], float)
     values = np.arange(5.0)[:, None]
     assert not is_simple(xy)
-    cut, at = untangled(xy, values, 0.02)
+    cut, at = untangled(xy, values, 0.05)
     assert is_simple(cut) and len(cut) == 4
     x = 9.9 + 0.1 * 0.5 / 10.5                    # where the right side crosses the bottom
     np.testing.assert_allclose(cut[1], [x, 0.0], atol=1e-12)
     np.testing.assert_allclose(at[:, 0], [0.0, x / 10.4, 3.0, 4.0], atol=1e-12)
-    assert untangled(xy, values, 0.001) is None
+    assert untangled(xy, values, 0.035) is None    # 1.70 of 41.6
     eight = np.array([[0, 0], [10, 10], [10, 0], [0, 10]], float)
-    assert untangled(eight, np.zeros((4, 1)), 0.2) is None
+    assert untangled(eight, np.zeros((4, 1)), 0.4) is None      # two lobes, each half of it
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    assert untangled(square, np.zeros((4, 1)), 0.1) is not None
+    assert untangled(square[::-1], np.zeros((4, 1)), 0.1) is None     # clockwise
+
+
+def _square(n=40, size=100.0):
+    t = np.linspace(0.0, 1.0, n, endpoint=False)[:, None]
+    corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float) * size
+    return np.vstack([a + t * (b - a) for a, b in zip(corners, np.roll(corners, -1, axis=0))])
+
+
+@pytest.mark.parametrize("corner", [0, 40])
+def test_untangled_reads_a_small_loop_the_same_at_any_corner(corner):
+    """The same small loop (1 + sqrt 2 + 1 long) drawn at the corner where the polygon starts (its
+    crossing between its last segments and its first) and at another: cut off within 1 % of the
+    length, refused within 0.7 %, either way."""
+    xy = _square()
+    m = len(xy)
+    if corner == 0:     # the left side runs down past (0, 0), the bottom starts back left of it
+        xy[m - 1], xy[0] = (0.0, -1.0), (-1.0, 0.0)
+    else:               # the bottom runs on past (100, 0), the right side starts back under it
+        xy[40], xy[41] = (101.0, 0.0), (100.0, -1.0)
+    values = np.arange(float(m))[:, None]
+    assert not is_simple(xy)
+    found = untangled(xy, values, 0.01)
+    assert found is not None and is_simple(found[0]) and len(found[0]) == m - 1
+    assert untangled(xy, values, 0.007) is None
 
 
 def test_a_loop_with_a_small_loop_by_a_corner_is_refilled_without_it():
