@@ -152,31 +152,43 @@ def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"], spans: tuple 
     mapped = plane_map(border, uv)      # the loop's map: the same for every knot vector below
     if mapped is None:
         return None
+    # each knot vector's refills (one per row count), made once: None where it adds no knot to
+    # the one before (the same poles, the same refills)
+    levels: dict = {}
     for held in rows:
         for level, least in enumerate(spans):
-            surface = info.surface.copy()
-            inserted = False
-            for direction in ("U", "V"):    # a straight side's direction has one span: room to move
-                knots = getattr(surface, f"get{direction}Knots")()
-                if len(knots) - 1 < least:
-                    inner = np.linspace(0.0, 1.0, least + 1)[1:-1]
-                    new_knots = [float(k) for k in inner if np.min(np.abs(np.asarray(knots) - k)) > 1e-6]
-                    getattr(surface, f"insert{direction}Knots")(new_knots, [1] * len(new_knots), 1e-9, False)
-                    inserted = True
-            if level and not inserted:      # the same poles as the level before: the same refills
+            if level not in levels:
+                surface, inserted = _with_spans(info.surface, least)
+                levels[level] = None if level and not inserted else (surface, refill_poles(
+                    mapped, to_array(surface.getPoles()), (full_knots(surface, "U"), full_knots(surface, "V")),
+                    (surface.UDegree, surface.VDegree), held=rows))
+            if levels[level] is None or held not in levels[level][1]:
                 continue
-            for new in refill_poles(mapped, to_array(surface.getPoles()),
-                                    (full_knots(surface, "U"), full_knots(surface, "V")),
-                                    (surface.UDegree, surface.VDegree), held=(held,)):
-                refill = Part.BSplineSurface()
-                refill.buildFromPolesMultsKnots(new.tolist(), surface.getUMultiplicities(),
-                                                surface.getVMultiplicities(), surface.getUKnots(),
-                                                surface.getVKnots(), False, False, surface.UDegree, surface.VDegree)
-                out = FaceInfo(info.region_id, refill, make_face(refill, f"refilled face for region {info.region_id}"),
-                               info.sides, info.triangle, True)
-                if lone_face_fold_deg(out) <= FOLD_FACE_DEG:
-                    return out
+            surface, grids = levels[level]
+            refill = Part.BSplineSurface()
+            refill.buildFromPolesMultsKnots(grids[held].tolist(), surface.getUMultiplicities(),
+                                            surface.getVMultiplicities(), surface.getUKnots(),
+                                            surface.getVKnots(), False, False, surface.UDegree, surface.VDegree)
+            out = FaceInfo(info.region_id, refill, make_face(refill, f"refilled face for region {info.region_id}"),
+                           info.sides, info.triangle, True)
+            if lone_face_fold_deg(out) <= FOLD_FACE_DEG:
+                return out
     return None
+
+
+def _with_spans(surface, least: int) -> tuple:
+    """(a copy of the B-spline surface with knots inserted evenly each way where it has fewer than
+    `least` spans: the same surface, more poles to move; whether any were inserted)."""
+    surface = surface.copy()
+    inserted = False
+    for direction in ("U", "V"):        # a straight side's direction has one span: room to move
+        knots = getattr(surface, f"get{direction}Knots")()
+        if len(knots) - 1 < least:
+            inner = np.linspace(0.0, 1.0, least + 1)[1:-1]
+            new_knots = [float(k) for k in inner if np.min(np.abs(np.asarray(knots) - k)) > 1e-6]
+            getattr(surface, f"insert{direction}Knots")(new_knots, [1] * len(new_knots), 1e-9, False)
+            inserted = True
+    return surface, inserted
 
 
 def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",

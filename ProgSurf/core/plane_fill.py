@@ -330,8 +330,8 @@ def plane_map(border: FloatArray, border_uv: FloatArray) -> PlaneMap | None:
         if cut is None:
             return None
     # seen from the side or untangled, only the refill that keeps the face's tangent plane along
-    # its sides is tried: refilling within the border alone (held 1), 3 creases between surfaces
-    # appeared on the 82 unseen CASSIE sketches (and 10 more faces unfolded)
+    # its sides is tried: refilling within the border alone (held 1) too, on the 82 unseen CASSIE
+    # sketches 14 more surfaces unfolded but 3 more creases between surfaces appeared
     reshaped = cut is not None or float(frame[2] @ n) < 1.0 - 1e-12
     e1, e2, d = frame
     if cut is None:
@@ -357,9 +357,10 @@ def plane_map(border: FloatArray, border_uv: FloatArray) -> PlaneMap | None:
 
 
 def refill_poles(mapped: PlaneMap, poles: FloatArray, knots: tuple[FloatArray, FloatArray],
-                 degrees: tuple[int, int], held: tuple[int, ...] = HELD) -> list[FloatArray]:
+                 degrees: tuple[int, int], held: tuple[int, ...] = HELD) -> dict[int, FloatArray]:
     """plane_refill's pole grids from the loop's map (plane_map), for a face of these poles, full
-    knot vectors and degrees (the same surface with more knots has the same map)."""
+    knot vectors and degrees (the same surface with more knots has the same map), by the rows of
+    poles held (those of `held` that give one)."""
     poles = np.asarray(poles, dtype=float)
     nu, nv = poles.shape[:2]
     c, frame = mapped.centre, mapped.axes
@@ -368,11 +369,11 @@ def refill_poles(mapped: PlaneMap, poles: FloatArray, knots: tuple[FloatArray, F
     target = _inverse(np.column_stack([mapped.points, mapped.heights]), mapped.triangles, mapped.uv,
                       np.column_stack([su.ravel(), sv.ravel()]))
     if target is None:
-        return []
+        return {}
     target = target.reshape(nu, nv, 3)
     bu_all = basis_matrix(knots[0], gu, degrees[0])
     bv_all = basis_matrix(knots[1], gv, degrees[1])
-    out = []
+    out = {}
     for k in held:
         if mapped.reshaped and k < 2:
             continue
@@ -388,7 +389,7 @@ def refill_poles(mapped: PlaneMap, poles: FloatArray, knots: tuple[FloatArray, F
         moved = np.linalg.solve(bv[:, k:-k], step.transpose(1, 0, 2).reshape(mv, -1))
         grid = poles.copy()
         grid[k:-k, k:-k] = c + moved.reshape(mv, mu, 3).transpose(1, 0, 2) @ frame
-        out.append(grid)
+        out[k] = grid
     return out
 
 
@@ -409,7 +410,5 @@ def plane_refill(poles: FloatArray, knots: tuple[FloatArray, FloatArray], degree
     points (s_i, r_j) (collocation there has one solution: Schoenberg-Whitney). Placed at the
     refill's points themselves, the poles next to a side that turns sharply (a corner inside a
     side) left the face turned over along it."""
-    poles = np.asarray(poles, dtype=float)
-    nu, nv = poles.shape[:2]
     mapped = plane_map(border, border_uv)
-    return [] if mapped is None else refill_poles(mapped, poles, knots, degrees, held)
+    return [] if mapped is None else list(refill_poles(mapped, poles, knots, degrees, held).values())
