@@ -14,6 +14,7 @@ CASSIE (Yu et al., CHI 2021) publishes:
   but two that would make one node of two places of a stroke merge only within a few times the
   gap the strokes leave there (core.stroke_nodes.merge_candidates), so that a feature smaller
   than delta, drawn precisely, keeps its nodes apart;
+- a stroke that zigzags along another (stitching, a scribble) is left out (core.stroke_zigzags);
 - a stroke lying within delta of a longer one along OVERSKETCH_COVER of its length is an
   over-sketch of it: merged (left out, recorded), unless it carries the curve on past the other
   by more than a hook (_tail); a stroke whose end runs along another over more than PROXIMITY x
@@ -47,6 +48,7 @@ from .stroke_nodes import (Links, NodeCandidates, apex_meeting, components, ends
                            seam_twins, segment_distances)
 from .stroke_joins import (EXTEND, HOOK, HOOK_FRACTION, PROXIMITY, Boxes, bridged_ring, end_direction, end_joins,
                            ring_overlaps, stroke_piece)
+from .stroke_zigzags import zigzags
 from .strokes import chord_length, cumulative_length, point_at_length
 from .types import FloatArray
 
@@ -429,6 +431,11 @@ def build_stroke_graph(strokes: Sequence[npt.ArrayLike], delta: float) -> Stroke
             cums[i] = cumulative_length(arrays[i])
             lengths[i] = float(cums[i][-1])
     live = [i for i in range(len(arrays)) if i not in short and i not in merged]
+    zigzag = zigzags(arrays, live, delta, OVERSKETCH_COVER)
+    for j, i in zigzag.items():
+        notes[j] = (f"a zigzag along stroke {i} (stitching or a scribble: it touches that curve and "
+                    f"leaves it again and again): it draws no curve of its own, left out")
+    live = [i for i in live if i not in zigzag]
 
     cands = NodeCandidates()
     trims: dict = {}
