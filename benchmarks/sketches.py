@@ -454,3 +454,20 @@ def make_config(config: str, seed: int, name: str | None = None) -> Sketch:
 def family(per: int = 12, seed_base: int = 0, only=()) -> list[Sketch]:
     """The family: len(CONFIGS) configurations x per sketches, 100 mm to 1 m across."""
     return [make_config(c, s, n) for n, c, s in family_specs(per, seed_base, only)]
+
+
+def notched_plate(scale: float = 100.0, samples: int = 30, warp: float = 1e-3) -> list[np.ndarray]:
+    """A sketch with a known answer whose Coons patch turns over: a 3 x 2 plate with a 1 x 1 notch
+    in its far side (units of `scale` mm), drawn as five strokes, one per side of the U (the notch's
+    three edges are one stroke), each edge `samples` points, on the gentle z = warp x y (mm). Every
+    choice of four corners gives a patch that turns over at the notch (168 deg); its face is
+    refilled over the loop's plane (core.plane_fill). Used by the core, document and GUI tests."""
+    runs = ([(0, 0), (3, 0)], [(3, 0), (3, 2)], [(3, 2), (2, 2), (2, 1), (1, 1), (1, 2)], [(1, 2), (0, 2)],
+            [(0, 2), (0, 0)])
+    strokes = []
+    for run in runs:
+        pts = np.vstack([np.linspace([*a, 0.0], [*b, 0.0], samples)[:-1] for a, b in zip(run[:-1], run[1:])]
+                        + [np.array([[*run[-1], 0.0]])]) * scale
+        pts[:, 2] = warp * pts[:, 0] * pts[:, 1]
+        strokes.append(pts)
+    return strokes

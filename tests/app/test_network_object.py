@@ -200,19 +200,14 @@ class TestCubeNetwork(NetworkTestCase):
 
 
 class TestRefilledFace(DocTestCase):
-    """A U-shaped plate of five strokes (tests/core/test_objects.py): its Coons patch turns over at
+    """A U-shaped plate of five strokes (benchmarks.sketches.notched_plate): its Coons patch turns over at
     the notch, its face is refilled over the loop's plane. The network says so per surface in
     SurfaceRefilled, with no warning; the document saved and reopened keeps it."""
 
     def test_the_object_says_which_surface_was_refilled(self):
-        runs = ([(0, 0), (3, 0)], [(3, 0), (3, 2)], [(3, 2), (2, 2), (2, 1), (1, 1), (1, 2)], [(1, 2), (0, 2)],
-                [(0, 2), (0, 0)])
-        made = []
-        for run in runs:
-            pts = np.vstack([np.linspace([*a, 0], [*b, 0], 30)[:-1] for a, b in zip(run[:-1], run[1:])]
-                            + [np.array([[*run[-1], 0.0]])]) * 100.0
-            pts[:, 2] = 1e-3 * pts[:, 0] * pts[:, 1]
-            made.append(ps.make_stroke_from_points(pts, doc=self.doc, recompute=False))
+        from benchmarks.sketches import notched_plate
+
+        made = [ps.make_stroke_from_points(pts, doc=self.doc, recompute=False) for pts in notched_plate()]
         net = ps.make_surface_network(doc=self.doc)
         self.doc.recompute()
         self.assertRecomputed(net, *made)

@@ -654,15 +654,9 @@ def test_a_loop_whose_coons_patch_folds_over_its_plane_is_refilled_with_the_same
     no fold, the sides where they were (the fit check reads them there), the report and summary
     say so, and the face covers the U's area."""
     from ProgSurf.app.objects import object_summary
+    from benchmarks.sketches import notched_plate
 
-    corners = [[(0, 0), (3, 0)], [(3, 0), (3, 2)], [(3, 2), (2, 2), (2, 1), (1, 1), (1, 2)], [(1, 2), (0, 2)],
-               [(0, 2), (0, 0)]]
-    strokes = []
-    for run in corners:
-        pts = np.vstack([line([*a, 0], [*b, 0], 30)[:-1] for a, b in zip(run[:-1], run[1:])]
-                        + [np.array([[*run[-1], 0.0]])]) * 100.0
-        pts[:, 2] = 1e-3 * pts[:, 0] * pts[:, 1]
-        strokes.append(pts)
+    strokes = notched_plate()
     out = build_object_and_measure(strokes)
     assert len(out.build.surfaces) == 1
     assert not any(out.folds) and out.problems == [], out.problems

@@ -210,11 +210,8 @@ panel.reject()
 process_events(0.3)
 # a U-shaped plate of five strokes: its Coons patch turns over at the notch, its face is refilled
 plate = App.newDocument("Plate")
-for run in ([(0, 0), (3, 0)], [(3, 0), (3, 2)], [(3, 2), (2, 2), (2, 1), (1, 1), (1, 2)], [(1, 2), (0, 2)],
-            [(0, 2), (0, 0)]):
-    pts = np.vstack([np.linspace([*a, 0], [*b, 0], 30)[:-1] for a, b in zip(run[:-1], run[1:])]
-                    + [np.array([[*run[-1], 0.0]])]) * 100.0
-    pts[:, 2] = 1e-3 * pts[:, 0] * pts[:, 1]
+from benchmarks.sketches import notched_plate
+for pts in notched_plate():
     ps.make_stroke_from_points(pts, doc=plate, recompute=False)
 plate.recompute()
 Gui.runCommand("ProgSurf_SurfaceNetwork")
