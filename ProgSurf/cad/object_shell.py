@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.strokes import sketch_diagonal
-from ..core.types import Tolerances
+from ..core.types import FloatArray, Tolerances
 from ._occ import Part
 from .g1 import OFFSET_FRACTION
 from .object_g1 import across_angles, across_folds, across_maps, following, worst_side_deg
@@ -138,6 +138,47 @@ def sew_at(faces: list, tolerance: float):
     return shape
 
 
+def loosened(built: list, results: list, given: list, reach: float) -> list:
+    """The G0 surfaces (ShellResults) with each face that still folds refilled within its border
+    alone, where its loop was seen from a tilted direction or untangled (cad.patch_faces.refilled_face
+    loose), kept where that unfolds it and makes no crease with the other surfaces that the surface
+    did not have (cad.object_g1.across_folds: no new (surfaces, curve) pair). Within the border
+    alone, such a refill turns the face's tangent plane along its sides wherever the loop's map puts
+    it: on the 82 unseen CASSIE sketches 14 more surfaces unfolded so, but 3 sketches traded a fold
+    inside a surface for a crease along a curve it shares. The creases are read among the surfaces
+    whose boxes come within `reach` of the surface's (the sewing tolerance), before and after."""
+    networks = [r.network for r in results]
+    boxes = None
+    for k, res in enumerate(built):
+        # (a face keeps its loop's map where it folds and no refill unfolded it)
+        folding = frozenset(info.region_id for info in res.faces if info.plane is not None and info.plane.reshaped)
+        if not folding:
+            continue
+        trial = build_shell(results[k].network, results[k].tol, previous=res, given=given[k], loose=folding)
+        if not any(info.refilled and info.region_id in folding for info in trial.faces):
+            continue
+        if boxes is None:
+            boxes = np.array([_box(r) for r in built])
+        near = [int(i) for i in np.flatnonzero(np.all(boxes[:, 0] <= boxes[k, 1] + reach, axis=1)
+                                               & np.all(boxes[:, 1] >= boxes[k, 0] - reach, axis=1))]
+
+        def creases(shells: list) -> set:
+            found = across_folds(shells, across_maps(shells, [networks[i] for i in near], reach))
+            mine = near.index(k)
+            return {(tuple(near[m] for m in f["surfaces"]), f["edge"]) for f in found if mine in f["surfaces"]}
+
+        if creases([trial if i == k else built[i] for i in near]) <= creases([built[i] for i in near]):
+            built = built[:k] + [trial] + built[k + 1:]
+    return built
+
+
+def _box(res) -> FloatArray:
+    """(2, 3): the lower and upper corners of the bounding box of a ShellResult's faces."""
+    boxes = [info.face.BoundBox for info in res.faces]
+    return np.array([[min(b.XMin for b in boxes), min(b.YMin for b in boxes), min(b.ZMin for b in boxes)],
+                     [max(b.XMax for b in boxes), max(b.YMax for b in boxes), max(b.ZMax for b in boxes)]])
+
+
 def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", built=None,
                        loops: tuple | None = None) -> ObjectShell:
     """Every surface's faces (cad.shell.build_shell of each BuildResult's network), sewn into
@@ -186,6 +227,8 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
         across.update({"g0_angle_max_deg": before["angle_max_deg"], "g0_tangent_sides": before["tangent_sides"]})
     built = [b if b is not None else build_shell(r.network, r.tol, continuity=continuity, given=g)
              for r, b, g in zip(results, built, given)]
+    if loops is not None and continuity == "G0":
+        built = loosened(built, results, given, OBJECT_SEW_FRACTION * tol.fit_mm)
     t_surfaces = time.perf_counter() - clock
     clock = time.perf_counter()
     folds_across, across_max = (), 0.0

@@ -13,14 +13,14 @@ from the earlier builds' ShellCache (faces, regions; g1_faces, g1_shapes in G1 m
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..core.errors import FitError
-from ..core.plane_fill import HELD, plane_map, refill_poles
+from ..core.plane_fill import HELD, PlaneMap, plane_map, refill_poles
 from ..core.types import FloatArray
 from ._occ import Part
 from .curves import constant_curve, join_side, to_array
@@ -55,6 +55,8 @@ class FaceInfo:
     sides: tuple
     triangle: bool
     refilled: bool = False      # inner poles moved in its loop's plane (refilled_face)
+    # where it folds and no refill unfolded it: its loop's map, which a loose refill reuses
+    plane: PlaneMap | None = field(default=None, compare=False, repr=False)
 
     @property
     def poles(self) -> tuple[int, int, int, int]:
@@ -134,24 +136,34 @@ step then turns to its neighbours' (with the sides alone kept, a noisy grid over
 more surface but 2 of its 15 smooth shared sides stayed 1.5 deg off tangent, all within 0.1 before)."""
 
 
-def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"], spans: tuple = REFILL_SPANS) -> FaceInfo | None:
-    """The face with its inner poles refilled in its loop's plane (core.plane_fill), where its
-    Coons patch folds (analysis.lone_face_fold_deg beyond FOLD_FACE_DEG) and the refill does not
-    (keeping each of `rows` rows of poles at each side in turn, each with at least `spans` knot
-    spans each way in turn: the first refill that unfolds it); else None. Its sides, and so every
-    edge it shares, are the same curves."""
-    from .analysis import FOLD_FACE_DEG, lone_face_fold_deg
-
-    if info.triangle or lone_face_fold_deg(info) <= FOLD_FACE_DEG:
-        return None
+def loop_map(info: FaceInfo) -> PlaneMap | None:
+    """The map of the face's loop (its border read at REFILL_SIDE_SAMPLES points a side) onto its
+    parameter square, which its plane refill inverts (core.plane_fill.plane_map)."""
     t = np.linspace(0.0, 1.0, REFILL_SIDE_SAMPLES, endpoint=False)
     one, nil = np.ones_like(t), np.zeros_like(t)
     uv = np.vstack([np.column_stack([t, nil]), np.column_stack([one, t]),
                     np.column_stack([1.0 - t, one]), np.column_stack([nil, 1.0 - t])])
     border = np.array([tuple(info.surface.value(float(a), float(b))) for a, b in uv])
-    mapped = plane_map(border, uv)      # the loop's map: the same for every knot vector below
+    return plane_map(border, uv)
+
+
+def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"], spans: tuple = REFILL_SPANS,
+                  loose: bool = False, mapped: PlaneMap | None = None) -> FaceInfo | None:
+    """The face with its inner poles refilled in its loop's plane (core.plane_fill), where its
+    Coons patch folds (analysis.lone_face_fold_deg beyond FOLD_FACE_DEG) and the refill does not
+    (keeping each of `rows` rows of poles at each side in turn, each with at least `spans` knot
+    spans each way in turn: the first refill that unfolds it); else None. Its sides, and so every
+    edge it shares, are the same curves. loose: a loop seen from a tilted direction or untangled may
+    be refilled within its border alone too (core.plane_fill.refill_poles). mapped: the loop's map
+    (loop_map) where the caller has found that the face folds and made it."""
+    from .analysis import FOLD_FACE_DEG, lone_face_fold_deg
+
     if mapped is None:
-        return None
+        if info.triangle or lone_face_fold_deg(info) <= FOLD_FACE_DEG:
+            return None
+        mapped = loop_map(info)         # the loop's map: the same for every knot vector below
+        if mapped is None:
+            return None
     # each knot vector's refills (one per row count), made once: None where it adds no knot to
     # the one before (the same poles, the same refills)
     levels: dict = {}
@@ -161,7 +173,7 @@ def refilled_face(info: FaceInfo, rows: tuple = REFILL_ROWS["G0"], spans: tuple 
                 surface, inserted = _with_spans(info.surface, least)
                 levels[level] = None if level and not inserted else (surface, refill_poles(
                     mapped, to_array(surface.getPoles()), (full_knots(surface, "U"), full_knots(surface, "V")),
-                    (surface.UDegree, surface.VDegree), held=rows))
+                    (surface.UDegree, surface.VDegree), held=rows, loose=loose))
             if levels[level] is None or held not in levels[level][1]:
                 continue
             surface, grids = levels[level]
@@ -192,7 +204,7 @@ def _with_spans(surface, least: int) -> tuple:
 
 
 def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
-                refill_rows: tuple = REFILL_ROWS["G0"]) -> tuple[list, tuple]:
+                refill_rows: tuple = REFILL_ROWS["G0"], loose: frozenset = frozenset()) -> tuple[list, tuple]:
     """The G0 face of each region (network.regions() order): the exact Coons B-spline surface of
     its four sides, each side the join of its edge curves (curves: edge id -> piece, fit_edges).
 
@@ -200,6 +212,7 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
             (`regions` for the same region view on the same curve objects, else `faces` by content).
     keep  : receives this build's `faces` and `regions` (reused and new).
     refill_rows : the rows of poles a folding face's plane refill may keep (refilled_face)
+    loose : ids of the regions whose refill may be loose (refilled_face)
     Returns ([FaceInfo], (reused, built))."""
     infos = []
     reused = built = 0
@@ -208,7 +221,8 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
         # the same region view (the network keeps it while the region is unchanged) on the same
         # curve objects makes the same face: no need to cut the sides again
         fast = cache.lookup("regions", region.id)
-        if (fast is not None and fast[0] is region and len(fast[1]) == len(used) and fast[3][-1] == refill_rows
+        rows = (refill_rows, region.id in loose)
+        if (fast is not None and fast[0] is region and len(fast[1]) == len(used) and fast[3][-1] == rows
                 and all(a is b for a, b in zip(fast[1], used))):
             info, key = fast[2], fast[3]
             reused += 1
@@ -220,15 +234,15 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
         corners = np.asarray(region.corners_xyz, dtype=float)
         # the face depends on its side pieces and on the very curve objects they cut
         key = (region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
-               content_digest(corners), bool(region.triangle), refill_rows)
+               content_digest(corners), bool(region.triangle), rows)
         info = cache.lookup("faces", key)
         if info is None:
             bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
                                         for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
             surface = coons_surface(bottom, right, top, left)
             face = make_face(surface, f"face for region {region.id}")
-            info = FaceInfo(region.id, surface, face, pieces, bool(region.triangle))
-            info = refilled_face(info, refill_rows) or info
+            info = _refilled(FaceInfo(region.id, surface, face, pieces, bool(region.triangle)), refill_rows,
+                             region.id in loose, cache, key)
             built += 1
         else:
             reused += 1
@@ -236,6 +250,29 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
         keep.regions[region.id] = (region, used, info, key)
         infos.append(info)
     return infos, (reused, built)
+
+
+def _refilled(info: FaceInfo, rows: tuple, loose: bool, cache: "ShellCache", key: tuple) -> FaceInfo:
+    """The Coons face `info` as coons_faces keeps it: refilled where it folds and a refill does not
+    (refilled_face), else with its loop's map (FaceInfo.plane) where it folds. loose: its loop seen
+    from a tilted direction or untangled may be refilled within its border alone too; the face built
+    without that (from `cache` by `key`, its last entry (rows, loose)) is the one returned where
+    that refill folds as well."""
+    from .analysis import FOLD_FACE_DEG, lone_face_fold_deg
+
+    if loose:
+        prior = cache.lookup("faces", key[:-1] + ((rows, False),))
+        if prior is None:
+            prior = _refilled(info, rows, False, cache, key)
+        if prior.plane is None or not prior.plane.reshaped:
+            return prior
+        return refilled_face(prior, tuple(r for r in rows if r < 2), loose=True, mapped=prior.plane) or prior
+    if info.triangle or lone_face_fold_deg(info) <= FOLD_FACE_DEG:
+        return info
+    mapped = loop_map(info)
+    if mapped is None:
+        return info
+    return refilled_face(info, rows, mapped=mapped) or replace(info, plane=mapped)
 
 
 def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache",

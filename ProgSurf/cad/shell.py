@@ -171,7 +171,8 @@ def network_diagonal(network) -> float:
 def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                 previous: "ShellResult | None" = None, given: tuple | None = None,
                 across: dict | None = None, g1_limit_mm: float | None = None,
-                tight: dict | None = None, refill_rows: tuple | None = None) -> ShellResult:
+                tight: dict | None = None, refill_rows: tuple | None = None,
+                loose: frozenset = frozenset()) -> ShellResult:
     """Fit the shared edges, build one exact Coons B-spline face per region, sew them into a shell.
 
     continuity "G1": each face is then replaced by its flux-corrected G1 surface (cad.g1), with the
@@ -190,6 +191,9 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
                previous build's, so that an edit does not loosen what an earlier build tightened.
     refill_rows : the rows of poles a folding face's plane refill may keep (cad.patch_faces.REFILL_ROWS;
                default that of `continuity`): a G0 build that G1 builds on takes G1's.
+    loose    : ids of the regions whose folding face's refill may keep its border alone even where
+               its loop was seen from a tilted direction or untangled (cad.patch_faces.refilled_face):
+               cad.object_shell checks such a refill against the other surfaces.
     """
     if continuity not in CONTINUITIES:
         raise InvalidOptionError(f"continuity {continuity!r} is not one of {', '.join(CONTINUITIES)}")
@@ -204,7 +208,7 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     curves = fit_edges(network, tol, last, stats, keep=cache, given=given, tight=tight)
     t1 = time.perf_counter()
     infos, counts_faces = coons_faces(network, curves, last, cache,
-                                      REFILL_ROWS[continuity] if refill_rows is None else refill_rows)
+                                      REFILL_ROWS[continuity] if refill_rows is None else refill_rows, loose)
     t2 = time.perf_counter()
     counts = {"curves": stats["curves"], "faces": counts_faces}
     timings = {"fit_edges": t1 - t0, "faces": t2 - t1}

@@ -301,7 +301,7 @@ class PlaneMap:
     """A loop's one-to-one map onto the parameter square (plane_map): its triangulated polygon
     `points` (k, 2) in the frame (centre, axes: rows e1, e2, d), their heights along d and their
     (s, r) `uv` (k, 2); `reshaped` where the loop was seen from a tilted d or untangled (a refill
-    then keeps 2 rows of poles at each side, not fewer)."""
+    then keeps 2 rows of poles at each side, not fewer, unless refill_poles is told `loose`)."""
 
     centre: FloatArray
     axes: FloatArray
@@ -331,7 +331,8 @@ def plane_map(border: FloatArray, border_uv: FloatArray) -> PlaneMap | None:
             return None
     # seen from the side or untangled, only the refill that keeps the face's tangent plane along
     # its sides is tried: refilling within the border alone (held 1) too, on the 82 unseen CASSIE
-    # sketches 14 more surfaces unfolded but 3 more creases between surfaces appeared
+    # sketches 14 more surfaces unfolded but 3 more creases between surfaces appeared (such a refill
+    # is made only where asked, `loose`, and then checked against the neighbours: cad.object_shell)
     reshaped = cut is not None or float(frame[2] @ n) < 1.0 - 1e-12
     e1, e2, d = frame
     if cut is None:
@@ -357,10 +358,12 @@ def plane_map(border: FloatArray, border_uv: FloatArray) -> PlaneMap | None:
 
 
 def refill_poles(mapped: PlaneMap, poles: FloatArray, knots: tuple[FloatArray, FloatArray],
-                 degrees: tuple[int, int], held: tuple[int, ...] = HELD) -> dict[int, FloatArray]:
+                 degrees: tuple[int, int], held: tuple[int, ...] = HELD,
+                 loose: bool = False) -> dict[int, FloatArray]:
     """plane_refill's pole grids from the loop's map (plane_map), for a face of these poles, full
     knot vectors and degrees (the same surface with more knots has the same map), by the rows of
-    poles held (those of `held` that give one)."""
+    poles held (those of `held` that give one). A reshaped map gives grids with 2 rows held or more,
+    unless `loose` (the caller checks the refill against the neighbours: cad.object_shell)."""
     poles = np.asarray(poles, dtype=float)
     nu, nv = poles.shape[:2]
     c, frame = mapped.centre, mapped.axes
@@ -375,7 +378,7 @@ def refill_poles(mapped: PlaneMap, poles: FloatArray, knots: tuple[FloatArray, F
     bv_all = basis_matrix(knots[1], gv, degrees[1])
     out = {}
     for k in held:
-        if mapped.reshaped and k < 2:
+        if mapped.reshaped and k < 2 and not loose:
             continue
         mu, mv = nu - 2 * k, nv - 2 * k
         if mu < 1 or mv < 1:
@@ -400,7 +403,7 @@ def plane_refill(poles: FloatArray, knots: tuple[FloatArray, FloatArray], degree
     sides themselves; 2: the face's tangent plane along its sides too); none where the loop does
     not lie over that plane, or over one tilted from it (simple_frame), or over that plane but for
     small loops (untangled), as a simple polygon (or holds too few poles to move). Tilted or
-    untangled, only with 2 rows held.
+    untangled, only with 2 rows held (refill_poles loose: 1 too).
 
     knots, degrees : the face's full knot vectors (on [0, 1]) and degrees in s and r
     border (m, 3)  : the face's boundary in order, bottom, right, top, left (s, r from 0 to 1 along

@@ -692,3 +692,17 @@ def test_a_c_shaped_plate_of_six_strokes_keeps_its_outer_corners():
     face = out.model.shells[0].Faces[0]
     for corner in ((0, 0, 0), (0, 300, 0), (300, 0, 0), (300, 300, 90)):
         assert face.OuterWire.distToShape(Part.Vertex(FreeCAD.Vector(*corner)))[0] < 1e-3, corner
+
+
+def test_a_tilted_loop_is_refilled_within_its_border_where_that_makes_no_crease(shared_data):
+    """CASSIE 07-2-2 (a shoe): the 3-sided surface bounded by strokes 3, 4 and 38 crosses itself seen
+    along its vector area and is simple seen from a tilted direction; its refill that keeps the
+    tangent plane along its sides still turned over (106 deg). Refilled within its border alone it
+    does not, and it makes no crease with the surfaces around it (cad.object_shell.loosened)."""
+    from ProgSurf.io import read_strokes
+
+    out = build_object_and_measure(read_strokes(shared_data / "cassie" / "07-2-2.curves"))
+    report = object_report(out)
+    (k,) = [s["surface"] for s in report["surfaces"] if sorted(s["side_strokes"]) == [3, 4, 38]]
+    assert report["surfaces"][k]["refilled_faces"] == 1 and report["surfaces"][k]["folds"] == []
+    assert not any(k in f["surfaces"] for f in report["folds_across_surfaces"])

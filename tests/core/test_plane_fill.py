@@ -11,8 +11,8 @@ from ProgSurf.core.bspline import basis_matrix
 from ProgSurf.core.bspline_surface import SurfaceDerivatives, unit_normals
 from ProgSurf.core.coons import coons_patch
 from ProgSurf.core.folds import FACE_INSET
-from ProgSurf.core.plane_fill import (MAX_TILT_DEG, greville, is_simple, loop_plane, plane_refill, simple_frame,
-                                      untangled)
+from ProgSurf.core.plane_fill import (MAX_TILT_DEG, greville, is_simple, loop_plane, plane_map, plane_refill,
+                                      refill_poles, simple_frame, untangled)
 
 POLES = 24
 
@@ -141,6 +141,25 @@ def test_a_loop_crossing_itself_along_its_normal_is_refilled_seen_from_the_side(
     np.testing.assert_array_equal(new[[0, 1, -2, -1]], poles[[0, 1, -2, -1]])
     np.testing.assert_array_equal(new[:, [0, 1, -2, -1]], poles[:, [0, 1, -2, -1]])
     assert refill(poles, knots, held=1) is None
+
+
+def test_a_loose_refill_keeps_the_border_alone_where_the_tangent_plane_would_turn_it_over():
+    """Folded 150 deg, the U seen from its tilted direction d: the refill that keeps the face's
+    tangent plane along its sides still turns over (the folded arm's sides lean past d), the one
+    that keeps its border alone does not. A reshaped map gives that one only when asked (loose:
+    the caller then checks it against the neighbouring surfaces, cad.object_shell.loosened)."""
+    poles, knots = bspline_face(folded_u(150.0))
+    border, uv = border_of(poles, knots)
+    mapped = plane_map(border, uv)
+    assert mapped.reshaped
+    d = mapped.axes[2]
+    assert sorted(refill_poles(mapped, poles, (knots, knots), (3, 3), held=(2, 1))) == [2]
+    grids = refill_poles(mapped, poles, (knots, knots), (3, 3), held=(2, 1), loose=True)
+    assert sorted(grids) == [1, 2]
+    assert (normals(grids[2], knots) @ d).min() < -0.2
+    assert (normals(grids[1], knots) @ d).min() > 0.0
+    np.testing.assert_array_equal(grids[1][[0, -1]], poles[[0, -1]])
+    np.testing.assert_array_equal(grids[1][:, [0, -1]], poles[:, [0, -1]])
 
 
 def test_is_simple_reads_every_pair_of_segments():
