@@ -171,15 +171,20 @@ def _build_and_measure(strokes, tol: Tolerances, continuity: str, network, cache
                                loops=(build.polylines, [s.cycle.sides for s in build.surfaces], build.tangents))
     timings.update({f"cad {k}": v for k, v in model.timings_s.items()})
     clock = time.perf_counter()
-    measured = [k[1] if k else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)
-                for k, shell_result, surf in zip(kept, model.surfaces, build.surfaces)]
-    checked = [k[2:] if k else cad_analysis.folds_and_seam_max_deg(shell_result)
-               for k, shell_result in zip(kept, model.surfaces)]
+    # a kept surface's measures are its own where the build kept it as it was (not loosened:
+    # cad.object_shell.loosened decides again with this build's neighbours)
+    same = [bool(k) and k[1] is not None and shell_result is k[0] for k, shell_result in zip(kept, model.surfaces)]
+    measured = [k[1] if s else _fit_and_allowance(shell_result, surf.result.network, build.tol.fit_mm)
+                for k, s, shell_result, surf in zip(kept, same, model.surfaces, build.surfaces)]
+    checked = [k[2:] if s else cad_analysis.folds_and_seam_max_deg(shell_result)
+               for k, s, shell_result in zip(kept, same, model.surfaces)]
     folds = [tuple(found) for found, _ in checked]
     seams = [seam for _, seam in checked]
     if cache is not None:
-        for key, shell_result, fit, found, seam in zip(keys, model.surfaces, measured, folds, seams):
-            cache.store("cad surface", key, (shell_result, fit, found, seam))
+        # the surface as built before any loose refill, with its measures where it is the one kept
+        plain = model.plain or model.surfaces
+        for key, shell_result, first, fit, found, seam in zip(keys, model.surfaces, plain, measured, folds, seams):
+            cache.store("cad surface", key, (first, fit, found, seam) if first is shell_result else (first, None, None, None))
     shells = []
     for s in model.shells:
         info = cad_analysis.shell_seam_gaps(s)

@@ -221,8 +221,8 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
         # the same region view (the network keeps it while the region is unchanged) on the same
         # curve objects makes the same face: no need to cut the sides again
         fast = cache.lookup("regions", region.id)
-        rows = (refill_rows, region.id in loose)
-        if (fast is not None and fast[0] is region and len(fast[1]) == len(used) and fast[3][-1] == rows
+        refill_key = (refill_rows, region.id in loose)      # (the last entry of its `faces` key)
+        if (fast is not None and fast[0] is region and len(fast[1]) == len(used) and fast[3][-1] == refill_key
                 and all(a is b for a, b in zip(fast[1], used))):
             info, key = fast[2], fast[3]
             reused += 1
@@ -234,7 +234,7 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
         corners = np.asarray(region.corners_xyz, dtype=float)
         # the face depends on its side pieces and on the very curve objects they cut
         key = (region.id, pieces, tuple(id(curves[p.edge_id]) for side in pieces for p in side),
-               content_digest(corners), bool(region.triangle), rows)
+               content_digest(corners), bool(region.triangle), refill_key)
         info = cache.lookup("faces", key)
         if info is None:
             bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])

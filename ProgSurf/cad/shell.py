@@ -57,8 +57,9 @@ class ShellCache:
     same region view on the same curve objects gives the same face without cutting its sides.
     Kept: every region of this build's network."""
     faces: dict = field(default_factory=dict)
-    """(region id, side pieces, ids of the curve objects they cut, corner digest, triangle) -> the
-    region's G0 FaceInfo (cad.patch_faces.coons_faces). Kept: the faces of this build's regions."""
+    """(region id, side pieces, ids of the curve objects they cut, corner digest, triangle, (refill
+    rows, loose)) -> the region's G0 FaceInfo (cad.patch_faces.coons_faces; the last entry says how
+    a folding face may be refilled). Kept: the faces of this build's regions."""
     g1_faces: dict = field(default_factory=dict)
     """G1 mode: ("g1", what the face reads) -> G1Face, the flux-corrected surface (cad.g1.smooth_faces).
     Kept: the G1 faces of this build; empty in G0 mode."""

@@ -8,13 +8,14 @@ is a sliver surface, a triangle or a lens a few delta wide, that stands off the 
 
 `zigzags` finds them: a stroke is a zigzag along another when
 
-- it lies within ZIGZAG_NEAR x delta of the other along OVERSKETCH_COVER of its length (it follows
-  it, as an over-sketch does, only more loosely),
+- it lies within ZIGZAG_NEAR x delta of the other at OVERSKETCH_COVER of its points and chord
+  midpoints (it follows it, as an over-sketch does, only more loosely),
 - it touches the other (within ZIGZAG_TOUCH x delta) and leaves it (beyond ZIGZAG_AWAY x delta)
   ZIGZAG_CYCLES times or more, and
 - it is ZIGZAG_RATIO times or more as long as the run of the other it follows (its footpoints'
   travel along the other): a zigzag's teeth make it long for the way it goes; a curve that it
-  touches and leaves again is as long as that way, or shorter.
+  touches and leaves again is as long as that way, or shorter; and that run is ZIGZAG_RUN x delta
+  long or more.
 
 A stroke found so is left out of the network, with a note saying which stroke it follows. The
 thresholds are in delta, the sketch's touching distance, so they hold at any size. On 88 CASSIE
@@ -40,6 +41,10 @@ ZIGZAG_TOUCH = 0.5
 ZIGZAG_AWAY = 1.0
 """... and leaves it (goes further than this many delta from it; stitching between two curves 1.8
 delta apart, touching each in turn, leaves either by 1.1 to 2.4 delta) ..."""
+
+ZIGZAG_RUN = 6.0
+"""... along a run of the other at least this many delta long (its footpoints' extent): a small ring
+drawn round a curve, an eyelet that a lace crosses, follows no more of it than its diameter."""
 
 ZIGZAG_CYCLES = 3
 """... this many times or more (touch, leave and touch again: one cycle) ..."""
@@ -67,7 +72,7 @@ def _cycles(d: FloatArray, delta: float) -> int:
 def zigzag_along(stroke: FloatArray, other: FloatArray, delta: float, cover: float) -> float:
     """How many times as long `stroke` is as the run of `other` it follows, when it is a zigzag along
     it (module docstring; cover: the share of its length that must lie within ZIGZAG_NEAR x delta of
-    it), else 0. Measured at its points and chord midpoints."""
+    it), else 0. Measured at its points and chord midpoints (cover: the share of them)."""
     if len(stroke) < 2 or len(other) < 2:
         return 0.0
     probe = np.empty((2 * len(stroke) - 1, 3))
@@ -75,6 +80,8 @@ def zigzag_along(stroke: FloatArray, other: FloatArray, delta: float, cover: flo
     d, at = nearest_on(probe, other)
     near = d <= ZIGZAG_NEAR * delta
     if np.mean(near) < cover or _cycles(d, delta) < ZIGZAG_CYCLES:
+        return 0.0
+    if float(np.ptp(at[near])) < ZIGZAG_RUN * delta:
         return 0.0
     step = np.linalg.norm(np.diff(probe, axis=0), axis=1)
     both = near[1:] & near[:-1]
@@ -91,7 +98,8 @@ def zigzags(strokes: list, live: list, delta: float, cover: float) -> dict:
     lo = np.array([s.min(axis=0) for s in strokes]).reshape(-1, 3)
     hi = np.array([s.max(axis=0) for s in strokes]).reshape(-1, 3)
     reach = ZIGZAG_NEAR * delta
-    least = 2 * ZIGZAG_CYCLES * ZIGZAG_AWAY * delta      # a shorter stroke cannot make the cycles
+    # a shorter stroke cannot make the cycles: each goes out and back between the two distances
+    least = 2 * ZIGZAG_CYCLES * (ZIGZAG_AWAY - ZIGZAG_TOUCH) * delta
     found = []
     alive = np.zeros(len(strokes), dtype=bool)
     alive[list(live)] = True

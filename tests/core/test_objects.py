@@ -706,3 +706,32 @@ def test_a_tilted_loop_is_refilled_within_its_border_where_that_makes_no_crease(
     (k,) = [s["surface"] for s in report["surfaces"] if sorted(s["side_strokes"]) == [3, 4, 38]]
     assert report["surfaces"][k]["refilled_faces"] == 1 and report["surfaces"][k]["folds"] == []
     assert not any(k in f["surfaces"] for f in report["folds_across_surfaces"])
+
+
+def test_a_loose_refill_is_decided_again_on_each_build_of_an_edited_sketch(shared_data):
+    """CASSIE 07-2-2 built with a BuildCache, then again with one more stroke far from its surface
+    of strokes 3, 4 and 38 (refilled within its border alone: cad.object_shell.loosened): the cache
+    keeps that surface as built before the loose refill, so the second build decides it again, and
+    gives what a fresh build of the edited sketch gives, surface by surface, on the same shared
+    curves (its trial is built on them: the shells sew alike)."""
+    from ProgSurf.core.objects import BuildCache, steady_tolerances
+    from ProgSurf.io import read_strokes
+
+    strokes = read_strokes(shared_data / "cassie" / "07-2-2.curves")
+    tol = steady_tolerances(strokes)
+    cache = BuildCache()
+    first = build_object_and_measure(strokes, tol, cache=cache)
+    extra = strokes[0] + np.array([0.0, 0.0, 300.0])       # a copy of the welt, far above the shoe
+    edited = list(strokes) + [extra]
+    cached = object_report(build_object_and_measure(edited, tol, cache=cache))
+    fresh = object_report(build_object_and_measure(edited, tol))
+
+    def view(report):
+        return ([(sorted(s["side_strokes"]), s["refilled_faces"], len(s["folds"])) for s in report["surfaces"]],
+                [(sorted(f["surfaces"]), f["edge"]) for f in report["folds_across_surfaces"]],
+                [(s["faces"], s["shared_edges"], s["free_edges"], s["valid"]) for s in report["shells"]])
+
+    assert view(cached) == view(fresh)
+    loose = [s for s in cached["surfaces"] if sorted(s["side_strokes"]) == [3, 4, 38]]
+    assert len(loose) == 1 and loose[0]["refilled_faces"] == 1
+    assert len(first.build.surfaces) == len(cached["surfaces"])

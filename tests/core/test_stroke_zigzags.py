@@ -3,8 +3,6 @@ with the curve it follows named, at any size; a curve that crosses another again
 zigzagging, and the curve a zigzag follows, are kept."""
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -12,8 +10,6 @@ from ProgSurf.core.objects import build_object, stroke_network
 from ProgSurf.core.stroke_zigzags import ZIGZAG_RATIO, zigzag_along, zigzags
 from ProgSurf.io import read_strokes
 from test_stroke_graph import line
-
-CASSIE = Path(__file__).resolve().parents[3] / "shared" / "data" / "cassie"
 
 
 def band(scale: float = 1.0) -> list:
@@ -79,6 +75,18 @@ def test_a_wave_crossing_a_curve_again_and_again_is_kept():
     assert graph.edges_of_stroke(len(strokes) - 1)
 
 
+def test_a_small_ring_round_a_curve_is_no_zigzag():
+    """An eyelet drawn as a ring of radius 2 delta, one and a half laps, round a lace that runs
+    through it: it touches the lace and leaves it three times and is about pi / 2 times as long as
+    the lace's part it spans, but that part is only its diameter (ZIGZAG_RUN)."""
+    delta = 4.0
+    th = np.linspace(0.0, 3.0 * np.pi, 120)
+    ring = np.c_[2 * delta * np.cos(th), np.zeros_like(th), 2 * delta * np.sin(th)]
+    lace = line([-40.0, 0.0, 0.0], [40.0, 0.0, 0.0], 80)
+    assert zigzag_along(ring, lace, delta, 0.8) == 0.0
+    assert zigzags([lace, ring], [0, 1], delta, 0.8) == {}
+
+
 def test_the_rail_is_never_the_zigzag_and_the_ratio_sets_them_apart():
     rail, zig = band()[0], stitching()
     delta = 4.0
@@ -90,12 +98,11 @@ def test_the_rail_is_never_the_zigzag_and_the_ratio_sets_them_apart():
     assert zigzag_along(low, rail, delta, 0.8) < ZIGZAG_RATIO
 
 
-@pytest.mark.skipif(not (CASSIE / "07-2-2.curves").is_file(), reason=f"shared sketch data not found at {CASSIE}")
-def test_the_real_shoes_stitching_is_left_out_and_nothing_else():
+def test_the_real_shoes_stitching_is_left_out_and_nothing_else(shared_data):
     """CASSIE 07-2-2 (a shoe): its two stitching strokes (39, 40, a mirrored pair) zigzag along the
     welt's curves 0 and 1; no other stroke of it, and none of the other real VR sketches, is taken
     for one."""
-    for path in sorted(CASSIE.glob("*.curves")):
+    for path in sorted((shared_data / "cassie").glob("*.curves")):
         graph = stroke_network(read_strokes(path))[0]
         found = {i: note for i, note in graph.notes.items() if "zigzag" in note}
         if path.stem == "07-2-2":
