@@ -160,6 +160,9 @@ def loosened(built: list, results: list, given: list, reach: float) -> list:
         if not folding:
             continue
         trial = build_shell(results[k].network, results[k].tol, previous=res, given=given[k], loose=folding)
+        # its loose faces (refilled or not) are kept with the surface as built: a later build that
+        # decides again (an edit elsewhere: app.objects keeps `plain`) reads them there, not refills
+        res.cache.faces.update({key: info for key, info in trial.cache.faces.items() if key[-1][1]})
         if not any(info.refilled and info.region_id in folding for info in trial.faces):
             continue
         if boxes is None:
@@ -208,12 +211,14 @@ def build_object_shell(results: list, tol: Tolerances, continuity: str = "G0", b
     given = [None] * len(results)
     if loops is not None:
         polylines, sides, tangents = loops
-        # (and the surfaces kept from an earlier build that `loosened` will try: on the same curves)
-        todo = [k for k, b in enumerate(built) if b is None or (continuity == "G0" and _may_loosen(b))]
+        todo = [k for k, b in enumerate(built) if b is None]
         used = {gid for k in todo for gid, _ in sides[k]}
         curves = graph_curves({gid: polylines[gid] for gid in used}, tol.fit_mm, tangents)
         for k in todo:
             given[k] = outer_edges(results[k].network, sides[k], curves)
+        # a surface kept from an earlier build keeps the curves it was built on (loosened builds it
+        # again on them: the very same curve objects, so its curves and faces are reused)
+        given = [g if b is None else b.given for g, b in zip(given, built)]
     across, maps, g0 = {}, None, None
     if across_g1:
         # every surface in G0, the curves each shares with another found on those faces, then G1

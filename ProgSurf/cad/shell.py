@@ -107,6 +107,8 @@ class ShellResult:
     g0_folds    : in G1 mode, the folds of those G0 faces (analysis.face_folds, sharp_edges
                   excepted), found once for keep_no_new_fold and app.build; else ()
     tight       : curve id -> factor on its fit tolerance that this build fitted it with (build_shell)
+    given       : the curves made elsewhere it was built on (build_shell(given=)): a build again on
+                  the very same curve objects reuses its curves and faces (cad.object_shell.loosened)
     cache       : what a later build_shell(..., previous=this) may reuse (ShellCache): fitted
                   curves and faces keyed by the exact content (polylines, nodes, tolerance) they
                   were made from, the sewn shell, and the same of the build before
@@ -127,6 +129,7 @@ class ShellResult:
     g1_reverted: tuple = ()
     g0_folds: tuple = ()
     tight: Mapping = field(default_factory=lambda: MappingProxyType({}))
+    given: tuple | None = field(default=None, repr=False, compare=False)
 
 
 G1_REVERT_ROUNDS = 4
@@ -239,4 +242,4 @@ def build_shell(network, tol: Tolerances = Tolerances(), continuity: str = "G0",
     counts["sewn"] = (sum(1 for f in faces if id(f) in presewn), len(faces))
     counts["local_sew"] = local is not None
     return ShellResult(shape, tuple(infos), curves, timings, continuity, sharp, g0_faces, cache, counts, reverted,
-                       g0_folds, MappingProxyType(dict(tight)))
+                       g0_folds, MappingProxyType(dict(tight)), given)
