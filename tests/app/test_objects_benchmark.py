@@ -150,3 +150,20 @@ def test_a_rough_object_makes_one_network_whichever_way_its_strokes_run_and_wher
     assert len(p1) == len(p0)
     assert np.linalg.norm(p0[:, None] - p1[None], axis=2).min(axis=1).max() <= 1e-3 * size
     assert len(g1.edges) == len(g0.edges) and len(c1.cycles) == len(c0.cycles)
+
+
+def test_the_edit_benchmark_moves_a_stroke_of_a_grid_and_builds_again_fewer_surfaces():
+    """benchmarks/edits.py --generated 1 --edits 2, as its docstring says: a line per generated
+    sketch and a SUMMARY; a moved stroke of the 3 x 3 grid builds again only the surfaces it
+    bounds (3 of its 9: a stroke of the grid bounds 2 to 4 of them)."""
+    env = dict(os.environ, HOME=os.environ.get("HOME") or "/tmp")
+    env.pop("PYTHONPATH", None)
+    proc = subprocess.run(["/usr/bin/python3", str(ROOT / "benchmarks" / "edits.py"), "--generated", "1", "--edits", "2"],
+                          cwd=str(ROOT), capture_output=True, text=True, timeout=600, env=env)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.strip().splitlines()
+    assert lines[-1].startswith(f"SUMMARY edits: {len(KINDS)} sketches")
+    grid = [ln for ln in lines if ln.startswith("grid_7000")]
+    assert len(grid) == 1 and "surfaces    9" in grid[0]
+    rebuilt = float(grid[0].split("surfaces built again ")[1].split()[0])
+    assert 2 <= rebuilt <= 4
