@@ -237,12 +237,15 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
                content_digest(corners), bool(region.triangle), refill_key)
         info = cache.lookup("faces", key)
         if info is None:
-            bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
-                                        for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
-            surface = coons_surface(bottom, right, top, left)
-            face = make_face(surface, f"face for region {region.id}")
-            info = _refilled(FaceInfo(region.id, surface, face, pieces, bool(region.triangle)), refill_rows,
-                             region.id in loose, cache, key)
+            # a loose face starts from the face built without that (kept by the build it tries again)
+            plain = cache.lookup("faces", key[:-1] + ((refill_rows, False),)) if region.id in loose else None
+            if plain is None:
+                bottom, right, top, left = (_side_curve(pieces[k], curves, corners[c])
+                                            for k, c in ((0, 0), (1, 1), (2, 3), (3, 0)))
+                surface = coons_surface(bottom, right, top, left)
+                face = make_face(surface, f"face for region {region.id}")
+                plain = _refilled(FaceInfo(region.id, surface, face, pieces, bool(region.triangle)), refill_rows)
+            info = _loose_refill(plain, refill_rows) if region.id in loose else plain
             built += 1
         else:
             reused += 1
@@ -252,27 +255,27 @@ def coons_faces(network, curves: dict, cache: "ShellCache", keep: "ShellCache",
     return infos, (reused, built)
 
 
-def _refilled(info: FaceInfo, rows: tuple, loose: bool, cache: "ShellCache", key: tuple) -> FaceInfo:
+def _refilled(info: FaceInfo, rows: tuple) -> FaceInfo:
     """The Coons face `info` as coons_faces keeps it: refilled where it folds and a refill does not
-    (refilled_face), else with its loop's map (FaceInfo.plane) where it folds. loose: its loop seen
-    from a tilted direction or untangled may be refilled within its border alone too; the face built
-    without that (from `cache` by `key`, its last entry (rows, loose)) is the one returned where
-    that refill folds as well."""
+    (refilled_face, keeping `rows` rows of poles), else with its loop's map (FaceInfo.plane) where
+    it folds."""
     from .analysis import FOLD_FACE_DEG, lone_face_fold_deg
 
-    if loose:
-        prior = cache.lookup("faces", key[:-1] + ((rows, False),))
-        if prior is None:
-            prior = _refilled(info, rows, False, cache, key)
-        if prior.plane is None or not prior.plane.reshaped:
-            return prior
-        return refilled_face(prior, tuple(r for r in rows if r < 2), loose=True, mapped=prior.plane) or prior
     if info.triangle or lone_face_fold_deg(info) <= FOLD_FACE_DEG:
         return info
     mapped = loop_map(info)
     if mapped is None:
         return info
     return refilled_face(info, rows, mapped=mapped) or replace(info, plane=mapped)
+
+
+def _loose_refill(plain: FaceInfo, rows: tuple) -> FaceInfo:
+    """The face `plain` (as _refilled made it) refilled within its border alone where it still folds
+    and its loop was seen from a tilted direction or untangled (refilled_face loose), where that
+    unfolds it; else `plain` itself."""
+    if plain.plane is None or not plain.plane.reshaped:
+        return plain
+    return refilled_face(plain, tuple(r for r in rows if r < 2), loose=True, mapped=plain.plane) or plain
 
 
 def g1_faces(network, g0_infos: tuple, cache: "ShellCache", keep: "ShellCache",

@@ -29,7 +29,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .stroke_joins import Boxes
 from .stroke_nodes import nearest_on
+from .strokes import cumulative_length
 from .types import FloatArray
 
 ZIGZAG_NEAR = 3.0
@@ -95,8 +97,7 @@ def zigzag_along(stroke: FloatArray, other: FloatArray, delta: float, cover: flo
 def zigzags(strokes: list, live: list, delta: float, cover: float) -> dict:
     """{stroke: the stroke it zigzags along} among the `live` strokes (indices into strokes), the
     most zigzagging first: a stroke that another zigzags along is never left out as one itself."""
-    lo = np.array([s.min(axis=0) for s in strokes]).reshape(-1, 3)
-    hi = np.array([s.max(axis=0) for s in strokes]).reshape(-1, 3)
+    boxes = Boxes(strokes)
     reach = ZIGZAG_NEAR * delta
     # a shorter stroke cannot make the cycles: each goes out and back between the two distances
     least = 2 * ZIGZAG_CYCLES * (ZIGZAG_AWAY - ZIGZAG_TOUCH) * delta
@@ -105,14 +106,13 @@ def zigzags(strokes: list, live: list, delta: float, cover: float) -> dict:
     alive[list(live)] = True
     for j in live:
         pj = strokes[j]
-        if len(pj) < 2 or float(np.sum(np.linalg.norm(np.diff(pj, axis=0), axis=1))) < least:
+        if len(pj) < 2 or float(cumulative_length(pj)[-1]) < least:
             continue
-        # the boxes must overlap, grown by the reach
-        near = alive & np.all(lo[j] <= hi + reach, axis=1) & np.all(hi[j] >= lo - reach, axis=1)
+        near = alive & boxes.close_to(boxes.lo[j], boxes.hi[j], reach)
         near[j] = False
         for i in np.flatnonzero(near):
             i = int(i)
-            inbox = np.all((pj >= lo[i] - reach) & (pj <= hi[i] + reach), axis=1)
+            inbox = np.all((pj >= boxes.lo[i] - reach) & (pj <= boxes.hi[i] + reach), axis=1)
             if np.mean(inbox) < cover:
                 continue
             ratio = zigzag_along(pj, strokes[i], delta, cover)
